@@ -1,0 +1,148 @@
+// Accel: validates the scene and rays, times the build, keeps statistics.
+#include "mbrt/accel.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
+#include "core/scene_context.h"
+
+namespace mbrt {
+
+bool isValidRay(const Ray& r) {
+  const bool finite = isFinite(r.org) && isFinite(r.dir) && !std::isnan(r.tnear) && !std::isnan(r.tfar) &&
+                      std::isfinite(r.tnear);
+  return finite && !(r.dir == Vec3f(0.0f)) && r.time >= 0.0f && r.time <= 1.0f && r.tnear <= r.tfar;
+}
+
+void TraversalCounters::add(const TraversalCounters& o) {
+  rays += o.rays;
+  nodesVisited += o.nodesVisited;
+  boxTests += o.boxTests;
+  primitiveTests += o.primitiveTests;
+  maxNodesVisited = std::max(maxNodesVisited, o.maxNodesVisited);
+  maxPrimitiveTests = std::max(maxPrimitiveTests, o.maxPrimitiveTests);
+}
+
+// The context (and with it the instanced scenes' structures) lives with the
+// structure; this holder keeps both and the budget together.
+namespace detail {
+class Owned final : public Structure {
+ public:
+  Owned(const Scene& scene, const BuildOptions& options)
+      : budget_(options.memoryBudget), context_(scene, options, budget_), inner_(makeStructure(context_)) {}
+  bool intersect(RayQuery& ray, Hit& hit) const override { return inner_->intersect(ray, hit); }
+  bool occluded(RayQuery& ray) const override { return inner_->occluded(ray); }
+  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
+    return inner_->intersectCounted(ray, hit, c);
+  }
+  void fillStats(AccelStats& s) const override {
+    inner_->fillStats(s);
+    context_.addChildStats(s);
+    s.primitives = context_.totalPrimitives();
+    s.peakBuildBytes = budget_.peak();
+  }
+  bool refit() override { return inner_->refit(); }
+
+ private:
+  BuildBudget budget_;
+  SceneContext context_;
+  std::unique_ptr<Structure> inner_;
+};
+}  // namespace detail
+
+Accel::Accel(const Scene& scene, const BuildOptions& options) : scene_(&scene), options_(options) {}
+Accel::~Accel() = default;
+
+std::unique_ptr<Accel> Accel::build(const Scene& scene, const BuildOptions& options) {
+  if (options.branching != 2 && options.branching != 4 && options.branching != 8)
+    throw Error("branching must be 2, 4 or 8, got " + std::to_string(options.branching));
+  if (options.maxLeafSize < 1 || options.maxLeafSize > 64)
+    throw Error("maxLeafSize must be in [1, 64], got " + std::to_string(options.maxLeafSize));
+  if (options.sahBins < 2 || options.sahBins > 256)
+    throw Error("sahBins must be in [2, 256], got " + std::to_string(options.sahBins));
+  if (!(options.frozenTime >= 0.0f && options.frozenTime <= 1.0f))
+    throw Error("frozen time must be in [0, 1]");
+  if (!(options.traversalCost > 0.0f)) throw Error("traversal cost must be positive");
+  std::unique_ptr<Accel> accel(new Accel(scene, options));
+  accel->construct();
+  return accel;
+}
+
+void Accel::construct() {
+  scene_->validate(options_.maxInstanceDepth);
+  structure_.reset();
+  const auto start = std::chrono::steady_clock::now();
+  structure_ = std::make_unique<detail::Owned>(*scene_, options_);
+  buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  invalidRays_ = 0;
+}
+
+void Accel::rebuild() { construct(); }
+
+bool Accel::refit() {
+  scene_->validate(options_.maxInstanceDepth);
+  if (structure_ && structure_->refit()) return true;
+  construct();
+  return false;
+}
+
+bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  hit = Hit();
+  if (!isValidRay(ray)) {
+    invalidRays_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  detail::RayQuery q(ray);
+  return structure_->intersect(q, hit);
+}
+
+bool Accel::occluded(const Ray& ray) const {
+  if (!isValidRay(ray)) {
+    invalidRays_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  detail::RayQuery q(ray);
+  return structure_->occluded(q);
+}
+
+bool Accel::intersect(const Ray& ray, Hit& hit, TraversalCounters& counters) const {
+  hit = Hit();
+  if (!isValidRay(ray)) {
+    invalidRays_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  detail::RayQuery q(ray);
+  TraversalCounters one;
+  one.rays = 1;
+  const bool found = structure_->intersectCounted(q, hit, one);
+  one.maxNodesVisited = one.nodesVisited;
+  one.maxPrimitiveTests = one.primitiveTests;
+  counters.add(one);
+  return found;
+}
+
+void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (hits.size() < rays.size()) throw Error("intersect: fewer hits than rays");
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) intersect(rays[i], hits[i]);
+  });
+}
+
+void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> out) const {
+  if (out.size() < rays.size()) throw Error("occluded: fewer results than rays");
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
+  });
+}
+
+AccelStats Accel::stats() const {
+  AccelStats s;
+  structure_->fillStats(s);
+  s.kind = std::string(toString(options_.kind));
+  s.buildSeconds = buildSeconds_;
+  s.invalidRays = invalidRays_.load();
+  return s;
+}
+
+}  // namespace mbrt

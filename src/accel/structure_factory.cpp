@@ -1,0 +1,55 @@
+// Maps accel kinds to their builders.
+#include <array>
+
+#include "accel/brute.h"
+#include "core/scene_context.h"
+
+namespace mbrt {
+namespace {
+
+struct KindName {
+  AccelKind kind;
+  std::string_view name;
+};
+constexpr std::array<KindName, 9> kNames{{{AccelKind::Brute, "brute"},
+                                          {AccelKind::BvhInterp, "bvh-interp"},
+                                          {AccelKind::BvhSegments, "bvh-segments"},
+                                          {AccelKind::Frozen, "frozen"},
+                                          {AccelKind::Stbvh, "stbvh"},
+                                          {AccelKind::Msbvh, "msbvh"},
+                                          {AccelKind::Mbkd, "mbkd"},
+                                          {AccelKind::FuzzyKd, "fuzzykd"},
+                                          {AccelKind::Embree, "embree"}}};
+
+}  // namespace
+
+std::string_view toString(AccelKind kind) {
+  for (const auto& k : kNames)
+    if (k.kind == kind) return k.name;
+  return "unknown";
+}
+
+std::optional<AccelKind> parseAccelKind(std::string_view name) {
+  for (const auto& k : kNames)
+    if (k.name == name) return k.kind;
+  return std::nullopt;
+}
+
+std::vector<AccelKind> availableAccelKinds() {
+  return {AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen};
+}
+
+namespace detail {
+
+std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
+  switch (context.options().kind) {
+    case AccelKind::Brute:
+      return makeBrute(context);
+    default:
+      throw Error("accel kind '" + std::string(toString(context.options().kind)) +
+                  "' is not available in this build");
+  }
+}
+
+}  // namespace detail
+}  // namespace mbrt

@@ -1,0 +1,72 @@
+// What a structure sees of a scene: its geometries, the primitives to index,
+// their bounds over time, and the structures of instanced scenes (built
+// recursively with the same options, once per distinct scene).
+#pragma once
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "core/build_budget.h"
+#include "core/structure.h"
+#include "mbrt/accel.h"
+#include "mbrt/scene.h"
+
+namespace mbrt::detail {
+
+// A primitive: geometry id and primitive id in it (instances have primID 0).
+struct PrimRef {
+  uint32_t geomID;
+  uint32_t primID;
+};
+
+class SceneContext {
+ public:
+  SceneContext(const Scene& scene, const BuildOptions& options, BuildBudget& budget);
+  ~SceneContext();
+
+  const Scene& scene() const { return *scene_; }
+  const Geometry& geometry(uint32_t geomID) const { return *geometries_[geomID]; }
+  const BuildOptions& options() const { return options_; }
+  BuildBudget& budget() const { return *budget_; }
+
+  // Every primitive of this level, in geometry then primitive order.
+  std::vector<PrimRef> primitives() const;
+  size_t numPrimitives() const { return numPrimitives_; }
+  // Primitives at this level plus those of instanced scenes (counted once).
+  size_t totalPrimitives() const;
+
+  // The structure of an instance's scene.
+  const Structure& child(uint32_t geomID) const { return *childOf_[geomID]; }
+
+  // Bounds, see primitive_bounds.h.
+  Box3f keyBox(PrimRef ref, uint32_t key) const;
+  // Union of the geometries alive in [range.lo, range.hi] over that range.
+  Box3f boundsOver(TimeRange range) const;
+  // Bytes of the structures of instanced scenes.
+  void addChildStats(AccelStats& stats) const;
+
+ private:
+  struct Child {
+    std::unique_ptr<SceneContext> context;
+    std::unique_ptr<Structure> structure;
+  };
+  void computeInstanceKeyBoxes();
+  void computeGeometryKeyBoxes();
+
+  const Scene* scene_;
+  BuildOptions options_;
+  BuildBudget* budget_;
+  std::vector<const Geometry*> geometries_;
+  size_t numPrimitives_ = 0;
+  std::map<const Scene*, Child> children_;
+  std::vector<const Structure*> childOf_;                // per geometry (instances only)
+  std::vector<const SceneContext*> childContextOf_;      // per geometry (instances only)
+  std::vector<std::vector<Box3f>> instanceKeyBoxes_;     // per geometry (instances only)
+  std::vector<std::vector<Box3f>> geometryKeyBoxes_;     // per geometry, per key (when instanced)
+};
+
+// Builds the structure of options.kind over a context (structure_factory.cpp).
+std::unique_ptr<Structure> makeStructure(const SceneContext& context);
+
+}  // namespace mbrt::detail
