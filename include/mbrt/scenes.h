@@ -1,0 +1,40 @@
+// The built-in procedural scene suite (DESIGN.md, "Scene suite"):
+// deterministic, seeded, with a size knob. size = 1 gives the default sizes
+// every issue's figures refer to; tests use small sizes (e.g. 0.005).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mbrt/scene.h"
+
+namespace mbrt {
+
+// A pinhole camera looking at a scene.
+struct CameraSpec {
+  Vec3f eye{0, 0, 5};
+  Vec3f target{0, 0, 0};
+  Vec3f up{0, 1, 0};
+  float verticalFovDegrees = 40.0f;
+};
+
+struct ProceduralScene {
+  std::string name;
+  std::shared_ptr<Scene> scene;  // owns its data and any instanced scenes
+  CameraSpec camera;             // a view that frames the scene
+};
+
+// Names of the built-in scenes, in suite order:
+// translate, rotate, crowd, hairball, hair, deform, skinned, demo.
+std::vector<std::string> proceduralSceneNames();
+
+// Builds a built-in scene. Throws Error for an unknown name or size <= 0.
+ProceduralScene makeProceduralScene(std::string_view name, double size = 1.0, uint64_t seed = 1);
+
+// A camera that frames the box, looking along -z from its front.
+CameraSpec frameBox(const Box3f& box);
+
+}  // namespace mbrt
