@@ -1,5 +1,11 @@
 # Instruction-set flags: portable by default, plus AVX2+FMA when the build
 # machine has them (MBRT_AVX2), or everything the machine has (MBRT_NATIVE).
+# No FMA contraction: the watertight triangle test needs its edge functions
+# rounded exactly as written (explicit fma intrinsics are still used).
+set(MBRT_FP_FLAGS "")
+if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+  set(MBRT_FP_FLAGS -ffp-contract=off)
+endif()
 set(MBRT_ISA_FLAGS "")
 if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang" AND CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
   if(MBRT_NATIVE)
@@ -21,4 +27,5 @@ if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang" AND CMAKE_SYSTEM_PROCESSOR MATCHES 
     endif()
   endif()
 endif()
+list(APPEND MBRT_ISA_FLAGS ${MBRT_FP_FLAGS})
 message(STATUS "mbrt ISA flags: ${MBRT_ISA_FLAGS}")
