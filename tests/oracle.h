@@ -1,0 +1,107 @@
+// The oracle check shared by all structure tests: a structure must give the
+// same closest hit as `brute` (same primitive, or a tie: same t within a
+// small relative tolerance) and the same any-hit answer. A missed hit is a
+// failure, never a tie.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mbrt/accel.h"
+#include "mbrt/scenes.h"
+
+namespace mbrt::test {
+
+struct OracleReport {
+  size_t rays = 0;
+  size_t hits = 0;
+  size_t ties = 0;
+  size_t wrong = 0;     // different primitive at a different t, or hit/miss disagreement
+  size_t anyWrong = 0;  // occluded() disagreements
+  std::string firstFailure;
+};
+
+inline OracleReport compareWithOracle(const Accel& oracle, const Accel& tested, const std::vector<Ray>& rays) {
+  OracleReport rep;
+  for (const Ray& ray : rays) {
+    Hit a, b;
+    const bool ha = oracle.intersect(ray, a), hb = tested.intersect(ray, b);
+    ++rep.rays;
+    rep.hits += ha ? 1 : 0;
+    bool ok = ha == hb;
+    if (ok && ha && (a.geomID != b.geomID || a.primID != b.primID || a.instID != b.instID)) {
+      const bool tie = std::fabs(a.t - b.t) <= 1e-4f * std::max(1.0f, std::fabs(a.t));
+      rep.ties += tie ? 1 : 0;
+      ok = tie;
+    } else if (ok && ha) {
+      ok = std::fabs(a.t - b.t) <= 1e-5f * std::max(1.0f, std::fabs(a.t));
+    }
+    if (!ok) {
+      if (rep.wrong == 0) {
+        rep.firstFailure = "ray org (" + std::to_string(ray.org.x) + "," + std::to_string(ray.org.y) + "," +
+                           std::to_string(ray.org.z) + ") dir (" + std::to_string(ray.dir.x) + "," +
+                           std::to_string(ray.dir.y) + "," + std::to_string(ray.dir.z) + ") time " +
+                           std::to_string(ray.time) + ": oracle " + (ha ? "hit" : "miss") + " g" +
+                           std::to_string(a.geomID) + " p" + std::to_string(a.primID) + " t " +
+                           std::to_string(a.t) + ", tested " + (hb ? "hit" : "miss") + " g" +
+                           std::to_string(b.geomID) + " p" + std::to_string(b.primID) + " t " + std::to_string(b.t);
+      }
+      ++rep.wrong;
+    }
+    if (oracle.occluded(ray) != tested.occluded(ray)) ++rep.anyWrong;
+  }
+  return rep;
+}
+
+// Every time at which some geometry of the scene (or of an instanced scene)
+// has a step or a range end, plus 0 and 1.
+inline void collectStepTimes(const Scene& scene, std::vector<float>& times) {
+  for (uint32_t id = 0; id < scene.numGeometries(); ++id) {
+    const Geometry& g = scene.geometry(id);
+    for (uint32_t k = 0; k < g.numSteps(); ++k) times.push_back(g.stepTime(k));
+    times.push_back(g.timeRange().lo);
+    times.push_back(g.timeRange().hi);
+    if (g.type() == GeometryType::Instance) collectStepTimes(*g.instancedScene(), times);
+  }
+}
+
+inline std::vector<float> stepTimes(const Scene& scene) {
+  std::vector<float> times = {0.0f, 1.0f};
+  collectStepTimes(scene, times);
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  return times;
+}
+
+// Rays from the scene's camera through random pixels (a quarter of them with
+// an origin moved into the scene), at random times and at every step time.
+inline std::vector<Ray> oracleRays(const ProceduralScene& ps, size_t randomTimeRays, size_t raysPerStepTime,
+                                   uint64_t seed) {
+  std::mt19937 rng(uint32_t(seed * 2654435761u + 1));
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const CameraSpec& c = ps.camera;
+  const Vec3f fwd = normalize(c.target - c.eye);
+  const Vec3f right = normalize(cross(fwd, c.up));
+  const Vec3f up = cross(right, fwd);
+  const float h = std::tan(c.verticalFovDegrees * 3.14159265f / 360.0f);
+  const float dist = length(c.target - c.eye);
+  auto cameraRay = [&](float time) {
+    Ray r;
+    const float x = (2 * u(rng) - 1) * h * 1.2f, y = (2 * u(rng) - 1) * h;
+    r.dir = fwd + right * x + up * y;
+    r.org = c.eye;
+    if (u(rng) < 0.25f) r.org = c.eye + r.dir * (dist * u(rng));  // start inside the scene
+    r.time = time;
+    return r;
+  };
+  std::vector<Ray> rays;
+  for (size_t i = 0; i < randomTimeRays; ++i) rays.push_back(cameraRay(u(rng)));
+  for (float t : stepTimes(*ps.scene))
+    for (size_t i = 0; i < raysPerStepTime; ++i) rays.push_back(cameraRay(t));
+  return rays;
+}
+
+}  // namespace mbrt::test
