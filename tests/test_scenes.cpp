@@ -242,3 +242,86 @@ TEST(Scenes, FrameBox) {
   // An empty box gives the default camera.
   EXPECT_EQ(frameBox(Box3f{}).eye, CameraSpec{}.eye);
 }
+
+TEST(Scenes, ClosedMeshesAreWatertight) {
+  // Every edge of the blobs is shared by exactly two triangles, in opposite
+  // directions (closed, consistently oriented).
+  for (const char* name : {"translate", "rotate"}) {
+    SCOPED_TRACE(name);
+    const ProceduralScene ps = makeProceduralScene(name, 0.01, 2);
+    const Geometry& g = ps.scene->geometry(0);
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (const Triangle& t : g.triangles()) {
+      ++edges[{t.v0, t.v1}];
+      ++edges[{t.v1, t.v2}];
+      ++edges[{t.v2, t.v0}];
+    }
+    for (const auto& [e, n] : edges) {
+      ASSERT_EQ(n, 1) << e.first << "-" << e.second;
+      ASSERT_EQ(edges.count({e.second, e.first}), 1u);
+    }
+  }
+}
+
+TEST(Scenes, MotionIsAsDescribed) {
+  auto dist = [](Vec3f a, Vec3f b) { return length(a - b); };
+  {  // translate: rigid, straight line; total path twice the radius.
+    const ProceduralScene ps = makeProceduralScene("translate", kSmall, 1);
+    const Geometry& g = ps.scene->geometry(0);
+    const Vec3f d = g.vertices(5)[0] - g.vertices(0)[0];
+    for (uint32_t k = 0; k < 6; ++k)
+      for (size_t i = 0; i < g.vertices(0).count; i += 7)
+        EXPECT_NEAR(length(g.vertices(k)[i] - g.vertices(0)[i] - d * (float(k) / 5.0f)), 0.0f, 1e-4f);
+    Box3f b0;
+    for (size_t i = 0; i < g.vertices(0).count; ++i) b0.extend(g.vertices(0)[i]);
+    EXPECT_GT(length(d), 0.45f * length(b0.size()));
+  }
+  {  // rotate: rigid at every step, back to the start after two turns.
+    const ProceduralScene ps = makeProceduralScene("rotate", kSmall, 1);
+    const Geometry& g = ps.scene->geometry(0);
+    const size_t n = g.vertices(0).count;
+    for (uint32_t k = 0; k < 33; ++k)
+      EXPECT_NEAR(dist(g.vertices(k)[0], g.vertices(k)[n / 2]), dist(g.vertices(0)[0], g.vertices(0)[n / 2]), 1e-4f);
+    EXPECT_NEAR(dist(g.vertices(32)[n / 3], g.vertices(0)[n / 3]), 0.0f, 1e-3f);
+    EXPECT_GT(dist(g.vertices(8)[n / 3], g.vertices(0)[n / 3]), 0.3f);  // half a turn later
+  }
+  {  // hairball and hair: the middle step is off the straight line.
+    for (const char* name : {"hairball", "hair"}) {
+      const ProceduralScene ps = makeProceduralScene(name, kSmall, 1);
+    const Geometry& g = ps.scene->geometry(0);
+      const Vec3f a = g.vertices(0)[0], m = g.vertices(1)[0], b = g.vertices(2)[0];
+      EXPECT_GT(dist(m, (a + b) * 0.5f), 0.01f) << name;
+      EXPECT_NEAR(dist(a, b), 0.1f, 0.02f) << name;
+    }
+  }
+  {  // deform: non-rigid (distances between vertices change), periodic.
+    const ProceduralScene ps = makeProceduralScene("deform", kSmall, 1);
+    const Geometry& g = ps.scene->geometry(0);
+    const size_t n = g.vertices(0).count;
+    EXPECT_GT(std::fabs(dist(g.vertices(2)[0], g.vertices(2)[n - 1]) - dist(g.vertices(0)[0], g.vertices(0)[n - 1])),
+              1e-3f);
+    for (size_t i = 0; i < n; i += 5) EXPECT_NEAR(dist(g.vertices(8)[i], g.vertices(0)[i]), 0.0f, 1e-4f);
+  }
+  {  // skinned: the character moves, and not rigidly.
+    const ProceduralScene ps = makeProceduralScene("skinned", kSmall, 1);
+    const Geometry& g = ps.scene->geometry(0);
+    const size_t n = g.vertices(0).count;
+    float change = 0.0f;
+    for (uint32_t k = 1; k < 17; ++k)
+      change = std::max(change, std::fabs(dist(g.vertices(k)[0], g.vertices(k)[n - 1]) -
+                                          dist(g.vertices(0)[0], g.vertices(0)[n - 1])));
+    EXPECT_GT(change, 0.05f);
+  }
+  {  // demo: the propeller's keys turn about its axis; the ball touches the floor mid-shutter.
+    const ProceduralScene ps = makeProceduralScene("demo", kSmall, 1);
+    const Scene& s = *ps.scene;
+    const auto keys = s.geometry(1).transforms();
+    EXPECT_NEAR(keys[0].determinant(), 1.0f, 1e-4f);
+    EXPECT_GT(length(keys[32].vx - keys[0].vx), 0.5f);
+    const Geometry& ball = s.geometry(2);
+    float lowest = kInf;
+    for (size_t i = 0; i < ball.vertices(4).count; ++i) lowest = std::min(lowest, ball.vertices(4)[i].y);
+    EXPECT_GE(lowest, -1e-4f);  // touches, never sinks in (coarse tessellation at this size)
+    EXPECT_LT(lowest, 0.06f);
+  }
+}

@@ -1,6 +1,6 @@
 // `demo`: small and pretty (a few thousand triangles at size 1). A static
 // floor with a post (S = 1), a three-bladed propeller on the post (an
-// instance of its own scene with 33 matrix keys, half a turn over the
+// instance of its own scene with 33 matrix keys, a quarter turn over the
 // shutter), a bouncing and squashing ball (9 steps), and a tuft of grass as
 // round segments swaying in the wind (3 steps).
 #include <cmath>
@@ -43,19 +43,19 @@ ProceduralScene makeDemo(double size, uint64_t seed) {
   auto scene = std::make_shared<Scene>();
 
   // Static floor and the propeller's post (one mesh, S = 1).
-  const int cells = int(scaledCount(std::sqrt(size), 24, 4));
-  MeshData stage = makeGrid(cells, cells, 8.0f, 8.0f);
+  const int cells = int(scaledCount(std::sqrt(size), 28, 4));
+  MeshData stage = makeGrid(cells, cells, 14.0f, 14.0f);
   const Vec3f hubPos{-1.0f, 1.45f, -0.6f};
   stage.append(makeCylinder(scaledCount(size, 300, 24), {hubPos.x, 0.0f, hubPos.z - 0.05f},
                             {hubPos.x, hubPos.y - 0.02f, hubPos.z - 0.05f}, 0.07f, 0.05f));
   stage.append(makeSphere(scaledCount(size, 200, 16), [](Vec3f) { return 0.18f; }, {hubPos.x, 0.0f, hubPos.z - 0.05f}));
   scene->addTriangleMesh(std::move(stage.triangles), std::vector<std::vector<Vec3f>>{std::move(stage.vertices)});
 
-  // The propeller: faces the camera side, half a turn over the shutter.
+  // The propeller: faces the camera side, a quarter turn over the shutter.
   auto propeller = makePropeller(size);
   const Affine3f mount = Affine3f::translate(hubPos + Vec3f{0.0f, 0.0f, 0.12f}) *
                          Affine3f::rotate({0, 1, 0}, 0.45f);
-  const float spin = (rng.uniform() < 0.5f ? -1.0f : 1.0f) * kPi;
+  const float spin = (rng.uniform() < 0.5f ? -0.5f : 0.5f) * kPi;
   const float spin0 = rng.uniform(0.0f, 2.0f * kPi);
   constexpr int kKeys = 33;
   std::vector<Affine3f> keys;
@@ -114,8 +114,8 @@ ProceduralScene makeDemo(double size, uint64_t seed) {
   scene->addSegments(std::move(segs), std::move(grassSteps), std::move(radii));
 
   ProceduralScene out;
-  out.camera.eye = {3.0f, 2.3f, 5.2f};
-  out.camera.target = {0.3f, 0.75f, 0.0f};
+  out.camera.eye = {2.7f, 2.0f, 4.6f};
+  out.camera.target = {0.3f, 0.7f, 0.1f};
   out.camera.verticalFovDegrees = 38.0f;
   out.scene = std::move(scene);
   return out;

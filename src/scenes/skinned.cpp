@@ -144,7 +144,7 @@ ProceduralScene makeSkinned(double size, uint64_t seed) {
   auto scene = std::make_shared<Scene>();
   scene->addTriangleMesh(std::move(body.mesh.triangles), std::move(steps));
   ProceduralScene out;
-  out.camera.eye = {2.1f, 1.6f, 3.4f};
+  out.camera.eye = {1.6f, 1.45f, 2.9f};
   out.camera.target = {0.0f, 0.95f, 0.25f};
   out.camera.verticalFovDegrees = 40.0f;
   out.scene = std::move(scene);
