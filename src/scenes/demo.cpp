@@ -114,8 +114,8 @@ ProceduralScene makeDemo(double size, uint64_t seed) {
   scene->addSegments(std::move(segs), std::move(grassSteps), std::move(radii));
 
   ProceduralScene out;
-  out.camera.eye = {2.7f, 2.0f, 4.6f};
-  out.camera.target = {0.3f, 0.7f, 0.1f};
+  out.camera.eye = {2.9f, 2.6f, 4.9f};
+  out.camera.target = {0.45f, 0.65f, 0.05f};
   out.camera.verticalFovDegrees = 38.0f;
   out.scene = std::move(scene);
   return out;
