@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "oracle.h"
+#include "test_util.h"
 
 using namespace mbrt;
 
@@ -18,7 +19,7 @@ std::vector<Case> allCases() {
   std::vector<Case> cases;
   for (const std::string& scene : proceduralSceneNames())
     for (AccelKind kind : availableAccelKinds())
-      if (kind != AccelKind::Brute) cases.push_back({scene, kind});
+      if (kind != AccelKind::Brute && kind != AccelKind::Embree) cases.push_back({scene, kind});
   return cases;
 }
 
@@ -135,7 +136,8 @@ TEST(OracleMixed, EveryKindAgreesOnMeshesSegmentsAndNestedInstances) {
   auto oracle = Accel::build(*ps.scene, bo);
   const std::vector<Ray> rays = test::oracleRays(ps, 4000, 40, 3);
   for (AccelKind kind : availableAccelKinds()) {
-    if (kind == AccelKind::Brute || kind == AccelKind::Frozen) continue;
+    // Embree has its own test (its time-range slack needs care at range ends).
+    if (kind == AccelKind::Brute || kind == AccelKind::Frozen || kind == AccelKind::Embree) continue;
     for (int branching : {2, 4, 8}) {
       BuildOptions to;
       to.kind = kind;
