@@ -1,0 +1,98 @@
+#include "bvh/binned_sah.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace mbrt::detail {
+
+RefSetInfo summarize(std::span<const BuildRef> refs) {
+  RefSetInfo info;
+  for (const BuildRef& r : refs) {
+    info.bounds.extend(r.bounds);
+    info.centroids.extend(r.centroid());
+    info.active += r.active;
+  }
+  return info;
+}
+
+int ObjectSplit::binOf(const BuildRef& r) const {
+  const int b = int((r.centroid()[axis] - origin) * scale);
+  return std::clamp(b, 0, numBins - 1);
+}
+
+namespace {
+
+struct Bin {
+  LBounds bounds;
+  uint64_t active = 0;
+  uint32_t count = 0;
+};
+
+}  // namespace
+
+ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
+                            TimeRange range) {
+  ObjectSplit best;
+  std::vector<Bin> bins(static_cast<size_t>(numBins));
+  std::vector<float> rightCost(static_cast<size_t>(numBins));
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo = info.centroids.lower[axis], extent = info.centroids.upper[axis] - lo;
+    if (!(extent > 0.0f)) continue;
+    ObjectSplit s;
+    s.axis = axis;
+    s.origin = lo;
+    s.scale = float(numBins) * (1.0f - 1e-6f) / extent;
+    s.numBins = numBins;
+    std::fill(bins.begin(), bins.end(), Bin());
+    for (const BuildRef& r : refs) {
+      Bin& b = bins[size_t(s.binOf(r))];
+      b.bounds.extend(r.bounds);
+      b.active += r.active;
+      ++b.count;
+    }
+    // Sweep from the right: cost of bins [i, numBins).
+    LBounds acc;
+    uint64_t active = 0;
+    for (int i = numBins - 1; i > 0; --i) {
+      acc.extend(bins[size_t(i)].bounds);
+      active += bins[size_t(i)].active;
+      rightCost[size_t(i)] = mbsahArea(acc, range) * float(active);
+    }
+    // Sweep from the left: split between bin i-1 and bin i.
+    acc = LBounds();
+    active = 0;
+    uint32_t leftCount = 0;
+    for (int i = 1; i < numBins; ++i) {
+      acc.extend(bins[size_t(i - 1)].bounds);
+      active += bins[size_t(i - 1)].active;
+      leftCount += bins[size_t(i - 1)].count;
+      if (leftCount == 0 || leftCount == refs.size()) continue;
+      const float cost = mbsahArea(acc, range) * float(active) + rightCost[size_t(i)];
+      if (cost < best.cost) {
+        best = s;
+        best.bin = i;
+        best.cost = cost;
+      }
+    }
+  }
+  return best;
+}
+
+size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split) {
+  auto mid = std::partition(refs.begin(), refs.end(), [&](const BuildRef& r) { return split.binOf(r) < split.bin; });
+  return size_t(mid - refs.begin());
+}
+
+size_t partitionMedian(std::span<BuildRef> refs, int axis) {
+  const size_t half = refs.size() / 2;
+  std::nth_element(refs.begin(), refs.begin() + std::ptrdiff_t(half), refs.end(),
+                   [axis](const BuildRef& a, const BuildRef& b) {
+                     const float ca = a.centroid()[axis], cb = b.centroid()[axis];
+                     if (ca != cb) return ca < cb;
+                     if (a.prim.geomID != b.prim.geomID) return a.prim.geomID < b.prim.geomID;
+                     return a.prim.primID < b.prim.primID;
+                   });
+  return half;
+}
+
+}  // namespace mbrt::detail
