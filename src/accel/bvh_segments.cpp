@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "bvh/build_wide.h"
 #include "bvh/inspect.h"
 #include "bvh/sah_cost.h"
@@ -49,7 +51,8 @@ class BvhSegments final : public Structure, public BvhInspect {
     const std::vector<PrimRef> prims = ctx.primitives();
     const uint32_t n = std::max(1u, ctx.scene().maxSegments());
     trees_.resize(n);
-    for (uint32_t i = 0; i < n; ++i) buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i]);
+    // Independent trees: built side by side (each is deterministic).
+    tbb::parallel_for(0u, n, [&](uint32_t i) { buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i]); });
     sceneArea_ = sceneSahArea(ctx);
   }
 

@@ -15,11 +15,6 @@ RefSetInfo summarize(std::span<const BuildRef> refs) {
   return info;
 }
 
-int ObjectSplit::binOf(const BuildRef& r) const {
-  const int b = int((r.centroid()[axis] - origin) * scale);
-  return std::clamp(b, 0, numBins - 1);
-}
-
 namespace {
 
 struct Bin {
@@ -32,44 +27,57 @@ struct Bin {
 
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
                             TimeRange range) {
-  ObjectSplit best;
-  std::vector<Bin> bins(static_cast<size_t>(numBins));
-  std::vector<float> rightCost(static_cast<size_t>(numBins));
+  // Binning transform per axis; axes where all keys coincide are skipped.
+  ObjectSplit axes[3];
+  bool any = false;
   for (int axis = 0; axis < 3; ++axis) {
     const float lo = info.centroids.lower[axis], extent = info.centroids.upper[axis] - lo;
     if (!(extent > 0.0f)) continue;
-    ObjectSplit s;
-    s.axis = axis;
-    s.origin = lo;
-    s.scale = float(numBins) * (1.0f - 1e-6f) / extent;
-    s.numBins = numBins;
-    std::fill(bins.begin(), bins.end(), Bin());
-    for (const BuildRef& r : refs) {
-      Bin& b = bins[size_t(s.binOf(r))];
+    axes[axis].axis = axis;
+    axes[axis].origin = lo;
+    axes[axis].scale = float(numBins) * (1.0f - 1e-6f) / extent;
+    axes[axis].numBins = numBins;
+    any = true;
+  }
+  ObjectSplit best;
+  if (!any) return best;
+  // One pass over the references fills the bins of all three axes.
+  const size_t nb = static_cast<size_t>(numBins);
+  std::vector<Bin> bins(3 * nb);
+  for (const BuildRef& r : refs) {
+    const Vec3f c = r.centroid();
+    for (int axis = 0; axis < 3; ++axis) {
+      if (axes[axis].axis < 0) continue;
+      Bin& b = bins[size_t(axis) * nb + size_t(axes[axis].binAt(c[axis]))];
       b.bounds.extend(r.bounds);
       b.active += r.active;
       ++b.count;
     }
+  }
+  std::vector<float> rightCost(nb);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (axes[axis].axis < 0) continue;
+    const Bin* ab = &bins[size_t(axis) * nb];
     // Sweep from the right: cost of bins [i, numBins).
     LBounds acc;
     uint64_t active = 0;
     for (int i = numBins - 1; i > 0; --i) {
-      acc.extend(bins[size_t(i)].bounds);
-      active += bins[size_t(i)].active;
+      acc.extend(ab[i].bounds);
+      active += ab[i].active;
       rightCost[size_t(i)] = mbsahArea(acc, range) * float(active);
     }
     // Sweep from the left: split between bin i-1 and bin i.
     acc = LBounds();
     active = 0;
-    uint32_t leftCount = 0;
+    size_t leftCount = 0;
     for (int i = 1; i < numBins; ++i) {
-      acc.extend(bins[size_t(i - 1)].bounds);
-      active += bins[size_t(i - 1)].active;
-      leftCount += bins[size_t(i - 1)].count;
+      acc.extend(ab[i - 1].bounds);
+      active += ab[i - 1].active;
+      leftCount += ab[i - 1].count;
       if (leftCount == 0 || leftCount == refs.size()) continue;
       const float cost = mbsahArea(acc, range) * float(active) + rightCost[size_t(i)];
       if (cost < best.cost) {
-        best = s;
+        best = axes[axis];
         best.bin = i;
         best.cost = cost;
       }

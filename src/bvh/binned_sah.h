@@ -3,6 +3,7 @@
 // the number of active primitive segments. Knows references, not trees.
 #pragma once
 
+#include <algorithm>
 #include <span>
 
 #include "bvh/build_ref.h"
@@ -29,7 +30,8 @@ struct ObjectSplit {
   int numBins = 0;
 
   bool valid() const { return axis >= 0; }
-  int binOf(const BuildRef& r) const;
+  int binAt(float key) const { return std::clamp(int((key - origin) * scale), 0, numBins - 1); }
+  int binOf(const BuildRef& r) const { return binAt(r.centroid()[axis]); }
 };
 
 // Best split over all three axes; ties go to the lower axis, then lower bin.
