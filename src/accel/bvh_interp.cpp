@@ -53,6 +53,10 @@ class BvhInterp final : public Structure, public BvhInspect {
   // their children, bottom-up.
   bool refit() override {
     if (bvh_.prims.size() != numPrims_) return false;  // a primitive was dropped: rebuild
+    // Instance bounds come from the context's key boxes and the instanced
+    // structures, which are made once: rebuild instead.
+    for (uint32_t g = 0; g < ctx_.scene().numGeometries(); ++g)
+      if (ctx_.geometry(g).type() == GeometryType::Instance) return false;
     if (bvh_.empty()) return true;
     bool ok = true;
     refitNode(0, ok);

@@ -3,9 +3,19 @@
 #include <algorithm>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 namespace mbrt::detail {
 
-RefSetInfo summarize(std::span<const BuildRef> refs) {
+namespace {
+
+// Large nodes reduce in parallel over fixed blocks. The merges (min/max and
+// integer sums) are exact, so the result never depends on the thread count.
+constexpr size_t kParallelRefs = 32768;
+constexpr size_t kGrain = 8192;
+
+RefSetInfo summarizeSerial(std::span<const BuildRef> refs) {
   RefSetInfo info;
   for (const BuildRef& r : refs) {
     info.bounds.extend(r.bounds);
@@ -13,6 +23,27 @@ RefSetInfo summarize(std::span<const BuildRef> refs) {
     info.active += r.active;
   }
   return info;
+}
+
+}  // namespace
+
+RefSetInfo summarize(std::span<const BuildRef> refs) {
+  if (refs.size() < kParallelRefs) return summarizeSerial(refs);
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<size_t>(0, refs.size(), kGrain), RefSetInfo(),
+      [&](const tbb::blocked_range<size_t>& r, RefSetInfo acc) {
+        const RefSetInfo part = summarizeSerial(refs.subspan(r.begin(), r.size()));
+        acc.bounds.extend(part.bounds);
+        acc.centroids.extend(part.centroids);
+        acc.active += part.active;
+        return acc;
+      },
+      [](RefSetInfo a, const RefSetInfo& b) {
+        a.bounds.extend(b.bounds);
+        a.centroids.extend(b.centroids);
+        a.active += b.active;
+        return a;
+      });
 }
 
 namespace {
@@ -43,16 +74,36 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
   if (!any) return best;
   // One pass over the references fills the bins of all three axes.
   const size_t nb = static_cast<size_t>(numBins);
-  std::vector<Bin> bins(3 * nb);
-  for (const BuildRef& r : refs) {
-    const Vec3f c = r.centroid();
-    for (int axis = 0; axis < 3; ++axis) {
-      if (axes[axis].axis < 0) continue;
-      Bin& b = bins[size_t(axis) * nb + size_t(axes[axis].binAt(c[axis]))];
-      b.bounds.extend(r.bounds);
-      b.active += r.active;
-      ++b.count;
+  auto fill = [&](std::span<const BuildRef> part, std::vector<Bin>& bins) {
+    for (const BuildRef& r : part) {
+      const Vec3f c = r.centroid();
+      for (int axis = 0; axis < 3; ++axis) {
+        if (axes[axis].axis < 0) continue;
+        Bin& b = bins[size_t(axis) * nb + size_t(axes[axis].binAt(c[axis]))];
+        b.bounds.extend(r.bounds);
+        b.active += r.active;
+        ++b.count;
+      }
     }
+  };
+  std::vector<Bin> bins(3 * nb);
+  if (refs.size() < kParallelRefs) {
+    fill(refs, bins);
+  } else {
+    bins = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<size_t>(0, refs.size(), kGrain), bins,
+        [&](const tbb::blocked_range<size_t>& r, std::vector<Bin> acc) {
+          fill(refs.subspan(r.begin(), r.size()), acc);
+          return acc;
+        },
+        [](std::vector<Bin> a, const std::vector<Bin>& b) {
+          for (size_t i = 0; i < a.size(); ++i) {
+            a[i].bounds.extend(b[i].bounds);
+            a[i].active += b[i].active;
+            a[i].count += b[i].count;
+          }
+          return a;
+        });
   }
   std::vector<float> rightCost(nb);
   for (int axis = 0; axis < 3; ++axis) {
