@@ -322,6 +322,18 @@ TEST(Bvh, RefitFollowsMovedVertices) {
   }
 }
 
+TEST(Bvh, RefitOfInstancesRebuilds) {
+  const TestScene ts = mixedScene();
+  BuildOptions o;
+  o.kind = AccelKind::BvhInterp;
+  auto accel = Accel::build(*ts.scene, o);
+  EXPECT_FALSE(accel->refit());  // instanced bounds are not refitted: rebuilt instead
+  BuildOptions bo;
+  bo.kind = AccelKind::Brute;
+  auto brute = Accel::build(*ts.scene, bo);
+  expectAgreement(*accel, *brute, makeRays(ts, 500, 31), "refit with instances");
+}
+
 // The scalar pack and the SIMD pack of this build agree on random nodes.
 TEST(Bvh, ScalarAndSimdNodeTestsAgree) {
   Rng rng(9);
