@@ -76,10 +76,36 @@ inline std::vector<float> stepTimes(const Scene& scene) {
   return times;
 }
 
-// Rays from the scene's camera through random pixels (a quarter of them with
-// an origin moved into the scene), at random times and at every step time.
+// A random point on a random triangle or segment of the scene's top level at
+// `time` (false when it has none alive then).
+inline bool randomSurfacePoint(const Scene& scene, float time, std::mt19937& rng, Vec3f& point) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    const uint32_t id = std::min(scene.numGeometries() - 1, uint32_t(u(rng) * scene.numGeometries()));
+    const Geometry& g = scene.geometry(id);
+    if (g.type() == GeometryType::Instance || g.numPrimitives() == 0 || !g.timeRange().contains(time)) continue;
+    const uint32_t p = std::min(g.numPrimitives() - 1, uint32_t(u(rng) * g.numPrimitives()));
+    if (g.type() == GeometryType::Triangles) {
+      const Triangle& t = g.triangles()[p];
+      float a = u(rng), b = u(rng);
+      if (a + b > 1.0f) a = 1.0f - a, b = 1.0f - b;
+      const Vec3f v0 = g.vertexAt(time, t.v0), v1 = g.vertexAt(time, t.v1), v2 = g.vertexAt(time, t.v2);
+      point = v0 + (v1 - v0) * a + (v2 - v0) * b;
+    } else {
+      const Segment& s = g.segments()[p];
+      point = lerp(g.vertexAt(time, s.v0), g.vertexAt(time, s.v1), u(rng));
+    }
+    return true;
+  }
+  return false;
+}
+
+// Rays at random times and at every step time: half from the scene's camera
+// through random pixels, half aimed at random points on primitives (a
+// quarter of all start inside the scene).
+// With fixedTime >= 0, all rays are at that time instead.
 inline std::vector<Ray> oracleRays(const ProceduralScene& ps, size_t randomTimeRays, size_t raysPerStepTime,
-                                   uint64_t seed) {
+                                   uint64_t seed, float fixedTime = -1.0f) {
   std::mt19937 rng(uint32_t(seed * 2654435761u + 1));
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   const CameraSpec& c = ps.camera;
@@ -88,19 +114,25 @@ inline std::vector<Ray> oracleRays(const ProceduralScene& ps, size_t randomTimeR
   const Vec3f up = cross(right, fwd);
   const float h = std::tan(c.verticalFovDegrees * 3.14159265f / 360.0f);
   const float dist = length(c.target - c.eye);
-  auto cameraRay = [&](float time) {
+  auto makeRay = [&](float time) {
     Ray r;
+    r.org = c.eye;
     const float x = (2 * u(rng) - 1) * h * 1.2f, y = (2 * u(rng) - 1) * h;
     r.dir = fwd + right * x + up * y;
-    r.org = c.eye;
-    if (u(rng) < 0.25f) r.org = c.eye + r.dir * (dist * u(rng));  // start inside the scene
+    Vec3f target;
+    if (u(rng) < 0.5f && randomSurfacePoint(*ps.scene, time, rng, target)) {
+      r.org = c.eye + Vec3f{u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f} * (0.3f * dist);
+      r.dir = target - r.org;
+    }
+    if (u(rng) < 0.25f) r.org = r.org + r.dir * (0.8f * u(rng));  // start inside the scene
     r.time = time;
     return r;
   };
   std::vector<Ray> rays;
-  for (size_t i = 0; i < randomTimeRays; ++i) rays.push_back(cameraRay(u(rng)));
+  for (size_t i = 0; i < randomTimeRays; ++i) rays.push_back(makeRay(fixedTime >= 0.0f ? fixedTime : u(rng)));
+  if (fixedTime >= 0.0f) return rays;
   for (float t : stepTimes(*ps.scene))
-    for (size_t i = 0; i < raysPerStepTime; ++i) rays.push_back(cameraRay(t));
+    for (size_t i = 0; i < raysPerStepTime; ++i) rays.push_back(makeRay(t));
   return rays;
 }
 
