@@ -3,6 +3,9 @@
 
 #include "accel/brute.h"
 #include "core/scene_context.h"
+#ifdef MBRT_HAVE_EMBREE
+#include "embree/embree_structure.h"
+#endif
 
 namespace mbrt {
 namespace {
@@ -36,7 +39,11 @@ std::optional<AccelKind> parseAccelKind(std::string_view name) {
 }
 
 std::vector<AccelKind> availableAccelKinds() {
-  return {AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen};
+  std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen};
+#ifdef MBRT_HAVE_EMBREE
+  kinds.push_back(AccelKind::Embree);
+#endif
+  return kinds;
 }
 
 namespace detail {
@@ -45,6 +52,10 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
   switch (context.options().kind) {
     case AccelKind::Brute:
       return makeBrute(context);
+#ifdef MBRT_HAVE_EMBREE
+    case AccelKind::Embree:
+      return makeEmbree(context);
+#endif
     default:
       throw Error("accel kind '" + std::string(toString(context.options().kind)) +
                   "' is not available in this build");
