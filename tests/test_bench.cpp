@@ -2,7 +2,7 @@
 // keys, and hit disagreements are reported, not hidden.
 #include <gtest/gtest.h>
 
-#include <tbb/parallel_for.h>
+#include <algorithm>
 
 #include "bench/bench.h"
 
@@ -42,11 +42,12 @@ bench::Options tinyOptions() {
   o.bruteSample = 300;
   o.countSample = 300;
   o.frozenTimes = 4;
-#ifdef MBRT_HAVE_EMBREE
-  o.accels = {"embree"};
-#else
-  o.accels = {"brute"};
-#endif
+  // Whatever this build has of the structures the bench is about.
+  for (const char* name : {"bvh-interp", "frozen", "embree"}) {
+    const auto kinds = availableAccelKinds();
+    if (std::find(kinds.begin(), kinds.end(), *parseAccelKind(name)) != kinds.end()) o.accels.push_back(name);
+  }
+  if (o.accels.empty()) o.accels = {"brute"};
   return o;
 }
 
