@@ -50,11 +50,16 @@ struct Segment {
   uint32_t v0, v1;
 };
 
-// A strided view of float xyz positions.
+// A strided view of float xyz positions. A buffer with stride >= 16 is
+// taken to span count * stride bytes; `padding` says how many more bytes
+// after the last vertex's 12 may be read. Structures that load 16 bytes per
+// vertex (Embree) share buffers where stride >= 16 or padding >= 4 and copy
+// the others. Buffers the scene owns are padded.
 struct VertexBuffer {
   const void* data = nullptr;
   size_t stride = 3 * sizeof(float);  // bytes between consecutive vertices
   size_t count = 0;
+  size_t padding = 0;  // readable bytes after the last vertex's xyz
 
   Vec3f operator[](size_t i) const {
     Vec3f v;

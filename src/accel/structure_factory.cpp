@@ -6,6 +6,9 @@
 #include "accel/bvh_segments.h"
 #include "accel/frozen.h"
 #include "core/scene_context.h"
+#ifdef MBRT_HAVE_EMBREE
+#include "embree/embree_structure.h"
+#endif
 
 namespace mbrt {
 namespace {
@@ -39,7 +42,11 @@ std::optional<AccelKind> parseAccelKind(std::string_view name) {
 }
 
 std::vector<AccelKind> availableAccelKinds() {
-  return {AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen};
+  std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen};
+#ifdef MBRT_HAVE_EMBREE
+  kinds.push_back(AccelKind::Embree);
+#endif
+  return kinds;
 }
 
 namespace detail {
@@ -54,6 +61,10 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
       return makeBvhSegments(context);
     case AccelKind::Frozen:
       return makeFrozen(context);
+#ifdef MBRT_HAVE_EMBREE
+    case AccelKind::Embree:
+      return makeEmbree(context);
+#endif
     default:
       throw Error("accel kind '" + std::string(toString(context.options().kind)) +
                   "' is not available in this build");

@@ -9,10 +9,16 @@ namespace {
 
 std::string where(uint32_t geomID) { return "geometry " + std::to_string(geomID); }
 
-std::vector<VertexBuffer> viewsOf(const std::vector<std::vector<Vec3f>>& steps) {
+// Views of owned steps, each padded by one vertex so that 16-byte loads of
+// the last vertex stay inside the allocation (Embree shares such buffers).
+std::vector<VertexBuffer> viewsOf(std::vector<std::vector<Vec3f>>& steps) {
   std::vector<VertexBuffer> views;
   views.reserve(steps.size());
-  for (const auto& s : steps) views.push_back({s.data(), sizeof(Vec3f), s.size()});
+  for (auto& s : steps) {
+    const size_t n = s.size();
+    s.push_back(Vec3f(0.0f));
+    views.push_back({s.data(), sizeof(Vec3f), n, sizeof(Vec3f)});
+  }
   return views;
 }
 

@@ -1,0 +1,126 @@
+// Ray and hit files, byte by byte so that the format is little-endian
+// whatever the host.
+#include "mbrt/ray_file.h"
+
+#include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "mbrt/scene.h"  // Error
+
+namespace mbrt {
+namespace {
+
+void putU32(uint8_t* p, uint32_t v) {
+  p[0] = uint8_t(v);
+  p[1] = uint8_t(v >> 8);
+  p[2] = uint8_t(v >> 16);
+  p[3] = uint8_t(v >> 24);
+}
+uint32_t getU32(const uint8_t* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+void putF32(uint8_t* p, float v) { putU32(p, std::bit_cast<uint32_t>(v)); }
+float getF32(const uint8_t* p) { return std::bit_cast<float>(getU32(p)); }
+
+std::vector<uint8_t> readFile(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  std::vector<uint8_t> bytes;
+  uint8_t chunk[1 << 16];
+  size_t n;
+  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) bytes.insert(bytes.end(), chunk, chunk + n);
+  const bool failed = std::ferror(f) != 0;
+  const int e = errno;
+  std::fclose(f);
+  if (failed) throw Error("cannot read '" + path + "': " + std::strerror(e));
+  return bytes;
+}
+
+void writeFile(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw Error("cannot open '" + path + "' for writing: " + std::strerror(errno));
+  const bool written = bytes.empty() || std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const int e1 = errno;
+  const bool flushed = std::fflush(f) == 0;
+  const int e2 = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!written || !flushed || !closed) {
+    const int e = !written ? e1 : (!flushed ? e2 : errno);
+    throw Error("cannot write '" + path + "': " + std::strerror(e));
+  }
+}
+
+void checkSize(size_t size, size_t record, std::string_view name, const char* what) {
+  if (size % record != 0)
+    throw Error(std::string(name) + ": size " + std::to_string(size) + " bytes is not a multiple of " +
+                std::to_string(record) + " (one " + what + " is " + std::to_string(record) + " bytes)");
+}
+
+}  // namespace
+
+HitRecord toHitRecord(const Hit& hit) {
+  if (!hit.valid()) return {};
+  return {hit.t, hit.geomID, hit.primID};
+}
+
+std::vector<Ray> decodeRays(std::span<const uint8_t> bytes, std::string_view name) {
+  checkSize(bytes.size(), kRayRecordBytes, name, "ray");
+  std::vector<Ray> rays(bytes.size() / kRayRecordBytes);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const uint8_t* p = bytes.data() + i * kRayRecordBytes;
+    Ray& r = rays[i];
+    r.org = {getF32(p), getF32(p + 4), getF32(p + 8)};
+    r.dir = {getF32(p + 12), getF32(p + 16), getF32(p + 20)};
+    r.tnear = getF32(p + 24);
+    r.tfar = getF32(p + 28);
+    r.time = getF32(p + 32);
+  }
+  return rays;
+}
+
+std::vector<HitRecord> decodeHits(std::span<const uint8_t> bytes, std::string_view name) {
+  checkSize(bytes.size(), kHitRecordBytes, name, "hit");
+  std::vector<HitRecord> hits(bytes.size() / kHitRecordBytes);
+  for (size_t i = 0; i < hits.size(); ++i) {
+    const uint8_t* p = bytes.data() + i * kHitRecordBytes;
+    hits[i] = {getF32(p), getU32(p + 4), getU32(p + 8)};
+  }
+  return hits;
+}
+
+std::vector<uint8_t> encodeRays(std::span<const Ray> rays) {
+  std::vector<uint8_t> bytes(rays.size() * kRayRecordBytes);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    uint8_t* p = bytes.data() + i * kRayRecordBytes;
+    const Ray& r = rays[i];
+    const float v[9] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar, r.time};
+    for (int k = 0; k < 9; ++k) putF32(p + 4 * k, v[k]);
+  }
+  return bytes;
+}
+
+std::vector<uint8_t> encodeHits(std::span<const HitRecord> hits) {
+  std::vector<uint8_t> bytes(hits.size() * kHitRecordBytes);
+  for (size_t i = 0; i < hits.size(); ++i) {
+    uint8_t* p = bytes.data() + i * kHitRecordBytes;
+    putF32(p, hits[i].t);
+    putU32(p + 4, hits[i].geomID);
+    putU32(p + 8, hits[i].primID);
+  }
+  return bytes;
+}
+
+std::vector<Ray> readRays(const std::string& path) { return decodeRays(readFile(path), path); }
+std::vector<HitRecord> readHits(const std::string& path) { return decodeHits(readFile(path), path); }
+void writeRays(const std::string& path, std::span<const Ray> rays) { writeFile(path, encodeRays(rays)); }
+void writeHits(const std::string& path, std::span<const HitRecord> hits) { writeFile(path, encodeHits(hits)); }
+
+void writeHits(const std::string& path, std::span<const Hit> hits) {
+  std::vector<HitRecord> records(hits.size());
+  for (size_t i = 0; i < hits.size(); ++i) records[i] = toHitRecord(hits[i]);
+  writeHits(path, records);
+}
+
+}  // namespace mbrt

@@ -1,0 +1,54 @@
+# Runs the `mbrt` command on a tiny OBJ scene (included by the top-level
+# CMakeLists.txt when both tests and tools are built).
+set(MBRT_CLI_SCENE ${PROJECT_SOURCE_DIR}/tests/data/cube.obj)
+set(MBRT_CLI_OUT ${PROJECT_BINARY_DIR}/cli_test_output)
+file(MAKE_DIRECTORY ${MBRT_CLI_OUT})
+file(WRITE ${MBRT_CLI_OUT}/bad_rays.bin "not a multiple of 36 bytes")
+
+add_test(NAME cli.version COMMAND mbrt_cli --version)
+set_tests_properties(cli.version PROPERTIES PASS_REGULAR_EXPRESSION "^mbrt ${PROJECT_VERSION}")
+
+add_test(NAME cli.stats COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel brute)
+set_tests_properties(cli.stats PROPERTIES PASS_REGULAR_EXPRESSION "primitives +12")
+
+add_test(NAME cli.stats_json COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel brute --json)
+set_tests_properties(cli.stats_json PROPERTIES PASS_REGULAR_EXPRESSION "\"primitives\": 12,")
+
+add_test(NAME cli.trace_generate
+         COMMAND mbrt_cli trace --scene ${MBRT_CLI_SCENE} --accel brute --generate 2000
+                 --rays ${MBRT_CLI_OUT}/rays.bin --hits ${MBRT_CLI_OUT}/hits.bin)
+set_tests_properties(cli.trace_generate PROPERTIES
+  PASS_REGULAR_EXPRESSION "rays +2000: [1-9][0-9]* hits, [1-9][0-9]* misses, 0 invalid"
+  FIXTURES_SETUP cli_rays)
+
+add_test(NAME cli.trace_file
+         COMMAND mbrt_cli trace --scene ${MBRT_CLI_SCENE} --accel brute
+                 --rays ${MBRT_CLI_OUT}/rays.bin --hits ${MBRT_CLI_OUT}/hits2.bin)
+set_tests_properties(cli.trace_file PROPERTIES
+  PASS_REGULAR_EXPRESSION "rays +2000: [1-9][0-9]* hits"
+  FIXTURES_REQUIRED cli_rays)
+
+add_test(NAME cli.render
+         COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --accel brute --width 32 --height 18 --spp 2
+                 --out ${MBRT_CLI_OUT}/render.png)
+set_tests_properties(cli.render PROPERTIES PASS_REGULAR_EXPRESSION "wrote +.*render.png")
+
+# Errors: a message, no crash, the documented exit codes (2 usage, 1 failure).
+add_test(NAME cli.error_bad_accel COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel nope)
+set_tests_properties(cli.error_bad_accel PROPERTIES
+  PASS_REGULAR_EXPRESSION "mbrt: error: .*unknown accel kind 'nope' \\(available: brute")
+add_test(NAME cli.error_bad_accel_code COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel nope)
+set_tests_properties(cli.error_bad_accel_code PROPERTIES WILL_FAIL TRUE)
+
+add_test(NAME cli.error_bad_ray_file
+         COMMAND mbrt_cli trace --scene ${MBRT_CLI_SCENE} --accel brute
+                 --rays ${MBRT_CLI_OUT}/bad_rays.bin --hits ${MBRT_CLI_OUT}/bad_hits.bin)
+set_tests_properties(cli.error_bad_ray_file PROPERTIES
+  PASS_REGULAR_EXPRESSION "mbrt: error: .*bad_rays.bin: size 26 bytes is not a multiple of 36")
+
+add_test(NAME cli.error_missing_scene COMMAND mbrt_cli stats --scene ${MBRT_CLI_OUT}/missing.obj --accel brute)
+set_tests_properties(cli.error_missing_scene PROPERTIES
+  PASS_REGULAR_EXPRESSION "mbrt: error: cannot open '.*missing.obj'")
+
+add_test(NAME cli.error_no_subcommand COMMAND mbrt_cli)
+set_tests_properties(cli.error_no_subcommand PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: ")
