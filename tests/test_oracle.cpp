@@ -19,7 +19,13 @@ std::vector<Case> allCases() {
   std::vector<Case> cases;
   for (const std::string& scene : proceduralSceneNames())
     for (AccelKind kind : availableAccelKinds())
-      if (kind != AccelKind::Brute && kind != AccelKind::Embree) cases.push_back({scene, kind});
+      // Embree's round linear curves are cones whose cross-section radius
+      // varies linearly, not the hull of the end spheres that mbrt (and the
+      // issue) define: scenes with segments differ slightly, so Embree is
+      // compared on the triangle scenes here and on segments of equal radii
+      // in test_embree.cpp.
+      if (kind != AccelKind::Brute && !(kind == AccelKind::Embree && (scene == "hair" || scene == "demo")))
+        cases.push_back({scene, kind});
   return cases;
 }
 
@@ -58,7 +64,21 @@ TEST_P(Oracle, AgreesWithBruteForce) {
     }
     auto tested = Accel::build(*ps.scene, to);
     rays = test::oracleRays(ps, 3000, 60, 7);
-    const auto rep = test::compareWithOracle(*oracle, *tested, rays);
+    if (c.kind == AccelKind::Embree) {
+      // Embree treats the ends of a partial time range with a small slack
+      // (DESIGN.md): compare away from them.
+      std::vector<float> ends;
+      for (uint32_t id = 0; id < ps.scene->numGeometries(); ++id) {
+        const TimeRange r = ps.scene->geometry(id).timeRange();
+        if (r.lo > 0.0f) ends.push_back(r.lo);
+        if (r.hi < 1.0f) ends.push_back(r.hi);
+      }
+      std::erase_if(rays, [&](const Ray& ray) {
+        return std::any_of(ends.begin(), ends.end(), [&](float e) { return std::fabs(ray.time - e) < 1e-3f; });
+      });
+    }
+    const auto rep =
+        test::compareWithOracle(*oracle, *tested, rays, c.kind == AccelKind::Embree ? 2e-4f : 1e-5f);
     EXPECT_EQ(rep.wrong, 0u) << c.scene << " " << toString(c.kind) << " width " << branching << ": "
                              << rep.firstFailure;
     EXPECT_EQ(rep.anyWrong, 0u) << c.scene << " " << toString(c.kind) << " width " << branching;
