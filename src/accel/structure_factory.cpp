@@ -2,6 +2,9 @@
 #include <array>
 
 #include "accel/brute.h"
+#include "accel/bvh_interp.h"
+#include "accel/bvh_segments.h"
+#include "accel/frozen.h"
 #include "core/scene_context.h"
 
 namespace mbrt {
@@ -45,6 +48,12 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
   switch (context.options().kind) {
     case AccelKind::Brute:
       return makeBrute(context);
+    case AccelKind::BvhInterp:
+      return makeBvhInterp(context);
+    case AccelKind::BvhSegments:
+      return makeBvhSegments(context);
+    case AccelKind::Frozen:
+      return makeFrozen(context);
     default:
       throw Error("accel kind '" + std::string(toString(context.options().kind)) +
                   "' is not available in this build");

@@ -1,0 +1,143 @@
+// Stack-based, front-to-back traversal of a WideBvh. The node test is
+// written once over Pack<W> (simd.h): AVX2 runs an 8-wide node in one pack,
+// SSE a 4-wide node, the scalar pack anything. Slab distances follow Ize
+// (JCGT 2013, "Robust BVH Ray Traversal"): (plane - org) * rdir with the far
+// distance scaled by 1 + 2*gamma(3); node bounds are already widened.
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include "bvh/wide_bvh.h"
+#include "geometry/primitive_intersect.h"
+
+namespace mbrt::detail {
+
+// 1 + 2*gamma(3), gamma(n) = n*eps / (1 - n*eps), eps = 2^-24.
+inline constexpr float kRobustFarScale = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+
+// The ray in the form the node test wants, broadcast to W lanes.
+template <int W>
+struct NodeRay {
+  Pack<W> org[3], rdir[3], tnear, time;
+  int nearPlane[3];  // 0: lower plane is the entry plane; 1: upper
+
+  NodeRay(const RayQuery& ray, float boxTime) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = Pack<W>::set1(ray.org[a]);
+      rdir[a] = Pack<W>::set1(ray.rdir[a]);
+      nearPlane[a] = std::signbit(ray.rdir[a]) ? 1 : 0;
+    }
+    tnear = Pack<W>::set1(ray.tnear);
+    time = Pack<W>::set1(boxTime);
+  }
+};
+
+// Bit i set when lane i is hit within [tnear, tfar]; dist[i] = entry distance.
+template <int W, int N, bool Motion>
+inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>& r, float tfar, float* dist) {
+  static_assert(N % W == 0);
+  using P = Pack<W>;
+  const P far = P::set1(tfar), scale = P::set1(kRobustFarScale), inf = P::set1(kInf);
+  uint32_t mask = 0;
+  for (int base = 0; base < N; base += W) {
+    P tn = r.tnear, tf = inf;
+    for (int a = 0; a < 3; ++a) {
+      const int nearK = r.nearPlane[a], farK = 1 - nearK;
+      P lo = P::load(&node.plane[a][nearK][base]);
+      P hi = P::load(&node.plane[a][farK][base]);
+      if constexpr (Motion) {
+        lo = fmadd(r.time, P::load(&node.plane[a][2 + nearK][base]), lo);
+        hi = fmadd(r.time, P::load(&node.plane[a][2 + farK][base]), hi);
+      }
+      tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
+      tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
+    }
+    tf = vmin(tf * scale, far);
+    mask |= lessEqualMask(tn, tf) << base;
+    tn.store(dist + base);
+  }
+  return mask;
+}
+
+struct TraversalItem {
+  uint32_t child;  // node index or first reference
+  uint32_t count;  // 0: inner node
+  float dist;      // entry distance
+};
+
+// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
+// boxTime is the ray's time in the tree's time parameter; the leaf test uses
+// ray.time. Count adds nodes visited, box tests and primitive tests.
+template <bool AnyHit, bool Count, int N, bool Motion>
+bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
+              TraversalCounters* counters) {
+  if (bvh.empty()) return false;
+  constexpr int W = packWidth<N>();
+  constexpr uint32_t kLocalStack = 256;
+  TraversalItem local[kLocalStack];
+  std::vector<TraversalItem> big;
+  TraversalItem* stack = local;
+  if (bvh.stackSize > kLocalStack) {
+    big.resize(bvh.stackSize);
+    stack = big.data();
+  }
+  const NodeRay<W> r(ray, boxTime);
+  alignas(32) float dist[N];
+  bool found = false;
+  uint32_t sp = 0;
+  stack[sp++] = {0, 0, ray.tnear};
+  while (sp != 0) {
+    TraversalItem item = stack[--sp];
+    if (!AnyHit && item.dist > ray.tfar) continue;
+    while (true) {
+      if (item.count == 0) {
+        const WideNode<N, Motion>& node = bvh.nodes[item.child];
+        if constexpr (Count) {
+          ++counters->nodesVisited;
+          counters->boxTests += N;
+        }
+        uint32_t mask = intersectNode<W>(node, r, ray.tfar, dist);
+        if (mask == 0) break;
+        // Nearest child next; the others go on the stack, farthest first.
+        int lane = __builtin_ctz(mask);
+        mask &= mask - 1;
+        if (mask == 0) {
+          item = {node.child[lane], node.count[lane], dist[lane]};
+          continue;
+        }
+        TraversalItem hits[N];
+        int n = 0;
+        hits[n++] = {node.child[lane], node.count[lane], dist[lane]};
+        do {
+          lane = __builtin_ctz(mask);
+          mask &= mask - 1;
+          TraversalItem h{node.child[lane], node.count[lane], dist[lane]};
+          int j = n++;
+          while (j > 0 && hits[j - 1].dist < h.dist) {  // sort by descending distance
+            hits[j] = hits[j - 1];
+            --j;
+          }
+          hits[j] = h;
+        } while (mask != 0);
+        for (int i = 0; i + 1 < n; ++i) stack[sp++] = hits[i];
+        item = hits[n - 1];
+        continue;
+      }
+      // Leaf.
+      if constexpr (Count) counters->primitiveTests += item.count;
+      const PrimRef* prims = bvh.prims.data() + item.child;
+      for (uint32_t i = 0; i < item.count; ++i) {
+        if constexpr (AnyHit) {
+          if (occludedPrimitive(ctx, prims[i], ray)) return true;
+        } else {
+          found |= intersectPrimitive(ctx, prims[i], ray, *hit, Count ? counters : nullptr);
+        }
+      }
+      break;
+    }
+  }
+  return found;
+}
+
+}  // namespace mbrt::detail

@@ -1,0 +1,24 @@
+// One N-wide BVH: nodes in depth-first order (root = node 0) and the
+// primitive references its leaves point into.
+#pragma once
+
+#include <vector>
+
+#include "bvh/wide_node.h"
+#include "core/scene_context.h"
+
+namespace mbrt::detail {
+
+template <int N, bool Motion>
+struct WideBvh {
+  using Node = WideNode<N, Motion>;
+  std::vector<Node> nodes;
+  std::vector<PrimRef> prims;
+  uint32_t depth = 0;       // wide nodes on the longest root-to-leaf path
+  uint32_t stackSize = 1;   // traversal stack entries the tree can need
+
+  bool empty() const { return nodes.empty(); }
+  size_t bytes() const { return nodes.size() * sizeof(Node) + prims.size() * sizeof(PrimRef); }
+};
+
+}  // namespace mbrt::detail
