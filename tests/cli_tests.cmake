@@ -52,3 +52,13 @@ set_tests_properties(cli.error_missing_scene PROPERTIES
 
 add_test(NAME cli.error_no_subcommand COMMAND mbrt_cli)
 set_tests_properties(cli.error_no_subcommand PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: ")
+
+# A small built-in scene with the default structure.
+add_test(NAME cli.trace_procedural
+         COMMAND mbrt_cli trace --scene translate --size 0.005 --generate 1000
+                 --rays ${MBRT_CLI_OUT}/translate_rays.bin --hits ${MBRT_CLI_OUT}/translate_hits.bin)
+set_tests_properties(cli.trace_procedural PROPERTIES
+  PASS_REGULAR_EXPRESSION "rays +1000: [1-9][0-9]* hits, [0-9]+ misses, 0 invalid")
+add_test(NAME cli.error_unknown_scene COMMAND mbrt_cli stats --scene no-such-scene)
+set_tests_properties(cli.error_unknown_scene PROPERTIES
+  PASS_REGULAR_EXPRESSION "mbrt: error: unknown scene 'no-such-scene'.*translate")

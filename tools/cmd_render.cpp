@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,6 +51,11 @@ Vec3f shade(const Ray& ray, const Hit& hit) {
 }
 
 void run(const RenderArgs& args) {
+  // Fail before rendering rather than after.
+  const std::filesystem::path parent = std::filesystem::path(args.out).parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw Error("cannot write '" + args.out + "': no directory '" + parent.string() + "'");
   const LoadedScene loaded = loadScene(args.scene);
   auto accel = buildAccel(*loaded.scene, args.accel, defaultAccelKind());
   const AccelStats built = accel->stats();
