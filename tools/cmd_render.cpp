@@ -64,7 +64,7 @@ void run(const RenderArgs& args) {
 
   const int w = args.width, h = args.height, spp = args.spp;
   Image image(w, h);
-  const PinholeCamera camera(loaded.camera, float(w) / float(h));
+  const PinholeCamera camera(loaded.camera.keys.front(), float(w) / float(h));
   const size_t raysPerRow = size_t(w) * size_t(spp);
   const int rowsPerChunk = int(std::max<size_t>(1, (size_t(1) << 18) / raysPerRow));
   std::vector<Ray> rays(raysPerRow * size_t(std::min(rowsPerChunk, h)));

@@ -26,7 +26,7 @@ struct TraceArgs {
 
 // Primary rays through random image points of a 16:9 view, random times.
 std::vector<Ray> generateRays(const LoadedScene& scene, size_t count, uint64_t seed) {
-  const PinholeCamera camera(scene.camera, 16.0f / 9.0f);
+  const PinholeCamera camera(scene.camera.keys.front(), 16.0f / 9.0f);
   std::vector<Ray> rays(count);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {

@@ -105,7 +105,7 @@ LoadedScene loadScene(const SceneArgs& args) {
       throw UsageError("scene file '" + args.scene + "' is not a .obj file (only OBJ files are read for now)");
     out.name = args.scene;
     out.scene = loadObjScene(args.scene);
-    out.camera = frameForObj(sceneBounds(*out.scene));
+    out.camera.keys = {frameForObj(sceneBounds(*out.scene))};
     return out;
   }
   const auto names = proceduralSceneNames();
@@ -115,7 +115,7 @@ LoadedScene loadScene(const SceneArgs& args) {
   ProceduralScene p = makeProceduralScene(args.scene, args.size, args.seed);
   out.name = p.name;
   out.scene = std::move(p.scene);
-  out.camera = p.camera;
+  out.camera.keys = {p.camera};
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "mbrt/accel.h"
+#include "mbrt/scene_description.h"
 #include "mbrt/scenes.h"
 
 namespace mbrt::tools {
@@ -34,11 +35,8 @@ struct AccelArgs {
   float time = 0.5f;  // build time of `frozen`
 };
 
-struct LoadedScene {
-  std::string name;
-  std::shared_ptr<Scene> scene;
-  CameraSpec camera;
-};
+// What --scene names: geometry, camera, materials, lights.
+using LoadedScene = SceneDescription;
 
 void addSceneOptions(CLI::App& cmd, SceneArgs& args);
 // defaultKind is named in the help; AccelArgs::accel stays empty when the
