@@ -39,6 +39,7 @@ struct BenchArgs {
   int rays = 0;
   int frozenTimes = 0;
   int repeats = 0;
+  double budget = 0.0;
   uint64_t seed = 1;
 };
 
@@ -55,6 +56,9 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_option("--frozen-times", args->frozenTimes, "K, the frozen times (default 16, --quick 8)");
   cmd->add_option("--repeats", args->repeats, "Median of this many builds and passes (default 3)");
   cmd->add_option("--seed", args->seed, "Scene and ray seed");
+  cmd->add_option("--budget", args->budget,
+                  "Seconds all passes of one structure over one ray set may take (default 20, --quick 5); "
+                  "slower structures are timed on a prefix of the rays");
   cmd->add_option("--json", args->json, "Write every figure as JSON to this file");
   cmd->add_option("--html", args->html, "Write an HTML report with SVG bar charts to this file");
   cmd->callback([args] {
@@ -64,6 +68,7 @@ void registerBenchCommand(CLI::App& app) {
     if (args->rays > 0) o.width = o.height = args->rays;
     if (args->frozenTimes > 0) o.frozenTimes = args->frozenTimes;
     if (args->repeats > 0) o.repeats = args->repeats;
+    if (args->budget > 0) o.passBudgetSeconds = args->budget;
     o.seed = args->seed;
     o.scenes = splitList(args->scenes);
     o.accels = splitList(args->accels);

@@ -176,6 +176,7 @@ void Options::makeQuick() {
   countSample = 4000;
   frozenTimes = 8;
   singleBuildSeconds = 0.5;
+  passBudgetSeconds = 5.0;
 }
 
 Candidate accelCandidate(AccelKind kind) {
@@ -362,56 +363,81 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
       res.peakBuildBytes = st.peakBuildBytes;
       if (std::isfinite(st.sahCost)) res.sah = st.sahCost;
 
+      // Times passes over `set` (or over the prefix that fits the budget,
+      // estimated from a probe pass); `hits` gets the prefix's hits, the rest
+      // stay misses and are left out of the agreement checks.
       auto traceSet = [&](const std::vector<Ray>& set, std::vector<Hit>& hits, double& st1, double& mt) {
         hits.assign(set.size(), Hit());
+        const size_t probe = std::min(set.size(), options.minTimedRays);
+        const auto ps0 = Clock::now();
+        target->trace(std::span(set).first(probe), std::span(hits).first(probe));
+        const double perRay = seconds(ps0) / double(std::max<size_t>(probe, 1));
+        const double passes = double(std::max(1, options.repeats)) * (st1 < 0 ? 1.0 : 1.0 + double(report.threads));
+        size_t n = set.size();
+        if (perRay * double(n) * passes > options.passBudgetSeconds)
+          n = std::clamp(size_t(options.passBudgetSeconds / (perRay * passes)), probe, set.size());
+        const std::span<const Ray> timed = std::span(set).first(n);
+        const std::span<Hit> timedHits = std::span(hits).first(n);
         progress(ctag + "tracing, 1 thread");
         tbb::task_arena one(1);
-        const double tst = st1 < 0 ? 0.0 : timedMedian(options.repeats, [&] { one.execute([&] { target->trace(set, hits); }); });
+        const double tst =
+            st1 < 0 ? 0.0 : timedMedian(options.repeats, [&] { one.execute([&] { target->trace(timed, timedHits); }); });
         progress(ctag + "tracing, all threads");
-        const double tmt = timedMedian(options.repeats, [&] { target->trace(set, hits); });
-        if (st1 >= 0) st1 = tst > 0 ? double(set.size()) / tst * 1e-6 : 0.0;
-        mt = tmt > 0 ? double(set.size()) / tmt * 1e-6 : 0.0;
+        const double tmt = timedMedian(options.repeats, [&] { target->trace(timed, timedHits); });
+        if (st1 >= 0) st1 = tst > 0 ? double(n) / tst * 1e-6 : 0.0;
+        mt = tmt > 0 ? double(n) / tmt * 1e-6 : 0.0;
+        return n;
       };
-      auto bruteMismatches = [&](const std::vector<size_t>& idx, const std::vector<Hit>& ref, const std::vector<Hit>& hits) {
+      // Agreement with brute on the sampled rays that were traced.
+      size_t checked = 0;
+      auto bruteMismatches = [&](const std::vector<size_t>& idx, const std::vector<Hit>& ref,
+                                 const std::vector<Hit>& hits, size_t traced) {
         size_t m = 0;
-        for (size_t j = 0; j < idx.size(); ++j) m += !hitsAgree(ref[j], hits[idx[j]]);
+        checked = 0;
+        for (size_t j = 0; j < idx.size(); ++j) {
+          if (idx[j] >= traced) continue;
+          ++checked;
+          m += !hitsAgree(ref[j], hits[idx[j]]);
+        }
         return m;
       };
 
       // The frozen set, traced by every structure.
       std::vector<Hit> frozenHits;
       double noSt = -1.0;
-      traceSet(frozenRays, frozenHits, noSt, res.frozenSet.mraysMt);
+      res.frozenSet.timedRays = traceSet(frozenRays, frozenHits, noSt, res.frozenSet.mraysMt);
       res.frozenSet.rays = frozenRays.size();
       progress(ctag + "counting");
       countedFigures(*target, frozenRays, countFrozenIdx, res.frozenSet.stepsMean, nullptr, nullptr,
                      res.frozenSet.isectsMean, nullptr);
-      res.frozenSet.mismatches = bruteMismatches(bruteFrozenIdx, bruteFrozenHits, frozenHits);
+      res.frozenSet.mismatches =
+          bruteMismatches(bruteFrozenIdx, bruteFrozenHits, frozenHits, res.frozenSet.timedRays);
 
       std::vector<Hit> hits;
       if (cand.frozen) {
         // Its job is the frozen set: the row reports it.
         double st1 = 0.0;
-        traceSet(frozenRays, hits, st1, res.mraysMt);
+        res.timedRays = traceSet(frozenRays, hits, st1, res.mraysMt);
         res.mraysSt = st1;
         res.rays = frozenRays.size();
         res.stepsMean = res.frozenSet.stepsMean;
         res.isectsMean = res.frozenSet.isectsMean;
         countedFigures(*target, frozenRays, countFrozenIdx, res.stepsMean, &res.stepsMax, &res.boxTestsMean,
                        res.isectsMean, &res.isectsMax);
-        res.mismatchesBrute = res.frozenSet.mismatches;
-        res.bruteChecked = bruteFrozenIdx.size();
+        res.mismatchesBrute = bruteMismatches(bruteFrozenIdx, bruteFrozenHits, hits, res.timedRays);
+        res.bruteChecked = checked;
         hits.clear();
       } else {
         double st1 = 0.0;
-        traceSet(rays, hits, st1, res.mraysMt);
+        res.timedRays = traceSet(rays, hits, st1, res.mraysMt);
         res.mraysSt = st1;
         res.rays = rays.size();
         progress(ctag + "counting");
         countedFigures(*target, rays, countIdx, res.stepsMean, &res.stepsMax, &res.boxTestsMean, res.isectsMean,
                        &res.isectsMax);
-        res.mismatchesBrute = bruteMismatches(bruteIdx, bruteHits, hits);
-        res.bruteChecked = bruteIdx.size();
+        res.mismatchesBrute = bruteMismatches(bruteIdx, bruteHits, hits, res.timedRays);
+        res.bruteChecked = checked;
+        hits.resize(res.timedRays);
       }
       res.mismatches = res.mismatchesBrute;
       report.results.push_back(std::move(res));
@@ -431,9 +457,9 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
       for (size_t r = firstResult; r < report.results.size(); ++r) {
         Result& res = report.results[r];
         const std::vector<Hit>& h = allHits[r - firstResult];
-        if (&res == embree || h.size() != eh.size()) continue;
+        if (&res == embree || h.empty()) continue;
         size_t m = 0;
-        for (size_t i = 0; i < h.size(); ++i) m += !hitsAgree(eh[i], h[i]);
+        for (size_t i = 0; i < std::min(h.size(), eh.size()); ++i) m += !hitsAgree(eh[i], h[i]);
         res.mismatchesEmbree = m;
         res.mismatches += m;
       }

@@ -46,6 +46,11 @@ struct Options {
   size_t countSample = 20000;       // rays of the counted pass
   int repeats = 3;                  // median of this many passes / builds
   double singleBuildSeconds = 3.0;  // builds slower than this are timed once
+  // A structure whose passes over the whole ray set would take longer than
+  // this (all repeats together) is timed on a prefix of the set that fits
+  // (at least minTimedRays); its row says how many rays were timed.
+  double passBudgetSeconds = 20.0;
+  size_t minTimedRays = 4096;
   uint64_t seed = 1;
   std::string commit = "unknown";
   std::FILE* progress = nullptr;    // a progress line (stderr), or none
@@ -57,6 +62,7 @@ struct Options {
 
 struct FrozenSetResult {
   size_t rays = 0;
+  size_t timedRays = 0;
   double mraysMt = 0.0;
   std::optional<double> stepsMean, isectsMean;
   size_t mismatches = 0;
@@ -72,6 +78,7 @@ struct Result {
   std::optional<double> stepsMean, stepsMax, boxTestsMean, isectsMean;
   std::optional<uint64_t> isectsMax;
   size_t rays = 0;
+  size_t timedRays = 0;  // rays of the timed passes (a prefix of `rays` when the budget cut it)
   double mraysSt = 0.0, mraysMt = 0.0;
   size_t mismatches = 0;                   // vs brute (sample) + vs embree (all)
   size_t mismatchesBrute = 0, bruteChecked = 0;
