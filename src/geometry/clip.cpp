@@ -1,0 +1,84 @@
+#include "geometry/clip.h"
+
+#include <cmath>
+
+namespace mbrt::detail {
+namespace {
+
+// Keeps the part of `in` on the inner side of the plane x[axis] = value
+// (side < 0: keep x <= value; side > 0: keep x >= value).
+void clipPlane(const ClippedPolygon& in, int axis, float value, int side, ClippedPolygon& out) {
+  out.count = 0;
+  if (in.count == 0) return;
+  auto inside = [&](const Vec3f& p) { return side < 0 ? p[axis] <= value : p[axis] >= value; };
+  for (int i = 0; i < in.count; ++i) {
+    const int j = (i + 1) % in.count;
+    const Vec3f &a = in.pos[i], &b = in.pos[j];
+    const bool ia = inside(a), ib = inside(b);
+    if (ia) {
+      out.pos[out.count] = a;
+      out.bary[out.count] = in.bary[i];
+      ++out.count;
+    }
+    if (ia != ib) {
+      // Crossing point, computed from the inside vertex towards the outside
+      // one; the coordinate on the plane is set exactly.
+      const int from = ia ? i : j, to = ia ? j : i;
+      const Vec3f &p = in.pos[from], &q = in.pos[to];
+      const float s = std::clamp((value - p[axis]) / (q[axis] - p[axis]), 0.0f, 1.0f);
+      Vec3f c = lerp(p, q, s);
+      c[axis] = value;
+      out.pos[out.count] = c;
+      out.bary[out.count] = lerp(in.bary[from], in.bary[to], s);
+      ++out.count;
+    }
+  }
+}
+
+}  // namespace
+
+ClippedPolygon clipTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
+  ClippedPolygon a, b;
+  a.count = 3;
+  a.pos[0] = v0;
+  a.pos[1] = v1;
+  a.pos[2] = v2;
+  a.bary[0] = {1, 0, 0};
+  a.bary[1] = {0, 1, 0};
+  a.bary[2] = {0, 0, 1};
+  ClippedPolygon* cur = &a;
+  ClippedPolygon* nxt = &b;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::isfinite(box.lower[axis])) {
+      clipPlane(*cur, axis, box.lower[axis], +1, *nxt);
+      std::swap(cur, nxt);
+    }
+    if (std::isfinite(box.upper[axis])) {
+      clipPlane(*cur, axis, box.upper[axis], -1, *nxt);
+      std::swap(cur, nxt);
+    }
+  }
+  return *cur;
+}
+
+bool clipSegment(Vec3f a, Vec3f b, const Box3f& box, float& s0, float& s1) {
+  s0 = 0.0f;
+  s1 = 1.0f;
+  const Vec3f d = b - a;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo = box.lower[axis], hi = box.upper[axis];
+    if (d[axis] == 0.0f) {
+      if (a[axis] < lo || a[axis] > hi) return false;
+      continue;
+    }
+    const float inv = 1.0f / d[axis];
+    float t0 = (lo - a[axis]) * inv, t1 = (hi - a[axis]) * inv;
+    if (t0 > t1) std::swap(t0, t1);
+    // NaN (inf - inf) never narrows the interval.
+    if (t0 > s0) s0 = t0;
+    if (t1 < s1) s1 = t1;
+  }
+  return s0 <= s1;
+}
+
+}  // namespace mbrt::detail

@@ -1,0 +1,144 @@
+#include "msbvh/key_bounds.h"
+
+#include <cmath>
+
+#include "geometry/clip.h"
+#include "geometry/primitive_bounds.h"
+
+namespace mbrt::detail {
+
+uint32_t chooseKeySegments(const SceneContext& ctx) {
+  float need = 1.0f;
+  for (uint32_t g = 0; g < ctx.scene().numGeometries(); ++g) {
+    const Geometry& geo = ctx.geometry(g);
+    if (geo.numSteps() <= 1) continue;
+    need = std::max(need, float(geo.numSteps() - 1) / geo.timeRange().size());
+  }
+  uint32_t n = 1;
+  while (n < kMaxKeySegments && float(n) < need * (1.0f - 1e-6f)) n *= 2;
+  return n;
+}
+
+KeyBounder::KeyBounder(const SceneContext& ctx, uint32_t segments) : ctx_(ctx), n_(segments) {
+  breaks_.resize(ctx.scene().numGeometries());
+  for (uint32_t g = 0; g < breaks_.size(); ++g) {
+    const Geometry& geo = ctx.geometry(g);
+    if (geo.numSteps() <= 1) continue;
+    for (uint32_t k = 0; k < geo.numSteps(); ++k) {
+      const float t = geo.stepTime(k);
+      const float x = t * float(n_);
+      const float i = std::floor(x);
+      if (x == i || i < 0.0f || i >= float(n_)) continue;  // on a key (or outside)
+      breaks_[g].push_back({uint32_t(i), t, x - i});
+    }
+  }
+}
+
+namespace {
+
+float radiusOf(const Geometry& g, const Segment& s) { return std::max(g.radii()[s.v0], g.radii()[s.v1]); }
+
+// Margin for clipping round-off at leaves: far more than the error of a
+// clip (a few ulp), far less than anything that matters for culling.
+Vec3f clipMargin(const Box3f& b) {
+  const float mag = std::max(maxComponent(Vec3f(std::fabs(b.lower.x), std::fabs(b.lower.y), std::fabs(b.lower.z))),
+                             maxComponent(Vec3f(std::fabs(b.upper.x), std::fabs(b.upper.y), std::fabs(b.upper.z))));
+  return Vec3f(mag * (1.0f / 16384.0f) + 1e-30f);
+}
+
+}  // namespace
+
+Box3f KeyBounder::buildBox(PrimRef prim) const { return widen(boxAt(ctx_, prim, kBuildTime)); }
+
+Box3f KeyBounder::clip(PrimRef prim, const Box3f& box) const {
+  const Geometry& g = ctx_.geometry(prim.geomID);
+  switch (g.type()) {
+    case GeometryType::Triangles: {
+      const Triangle& t = g.triangles()[prim.primID];
+      return clipTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1), g.vertexAt(kBuildTime, t.v2),
+                          box)
+          .bounds();
+    }
+    case GeometryType::Segments: {
+      const Segment& s = g.segments()[prim.primID];
+      const float r = radiusOf(g, s);
+      const Vec3f a = g.vertexAt(kBuildTime, s.v0), b = g.vertexAt(kBuildTime, s.v1);
+      float s0, s1;
+      if (!clipSegment(a, b, grow(box, Vec3f(r)), s0, s1)) return {};
+      Box3f c(lerp(a, b, s0));
+      c.extend(lerp(a, b, s1));
+      return intersect(grow(c, Vec3f(r)), box);
+    }
+    case GeometryType::Instance: {
+      const Box3f c = intersect(buildBox(prim), box);
+      return c.empty() ? Box3f() : c;
+    }
+  }
+  return {};
+}
+
+bool KeyBounder::pieceKeys(PrimRef prim, const Box3f& region, Box3f* out) const {
+  const Geometry& g = ctx_.geometry(prim.geomID);
+  const Box3f clipBox = grow(region, clipMargin(buildBox(prim)));
+  std::function<Box3f(float)> at;
+  ClippedPolygon poly;
+  float s0 = 0.0f, s1 = 1.0f;
+  switch (g.type()) {
+    case GeometryType::Triangles: {
+      const Triangle& t = g.triangles()[prim.primID];
+      poly = clipTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1), g.vertexAt(kBuildTime, t.v2),
+                          clipBox);
+      if (poly.count == 0) return false;
+      at = [&](float time) {
+        const Vec3f v0 = g.vertexAt(time, t.v0), v1 = g.vertexAt(time, t.v1), v2 = g.vertexAt(time, t.v2);
+        Box3f b;
+        for (int i = 0; i < poly.count; ++i) b.extend(evalBary(poly.bary[i], v0, v1, v2));
+        return b;
+      };
+      break;
+    }
+    case GeometryType::Segments: {
+      const Segment& s = g.segments()[prim.primID];
+      const float r = radiusOf(g, s);
+      // Axis points c(s) inside the region; the radius pads them below.
+      if (!clipSegment(g.vertexAt(kBuildTime, s.v0), g.vertexAt(kBuildTime, s.v1), clipBox, s0, s1)) return false;
+      at = [&, r](float time) {
+        const Vec3f a = g.vertexAt(time, s.v0), b = g.vertexAt(time, s.v1);
+        Box3f c(lerp(a, b, s0));
+        c.extend(lerp(a, b, s1));
+        return grow(c, Vec3f(r));
+      };
+      break;
+    }
+    case GeometryType::Instance:
+      at = [&](float time) { return boxAt(ctx_, prim, time); };
+      break;
+  }
+  for (uint32_t i = 0; i <= n_; ++i) out[i] = at(float(i) / float(n_));
+  for (const Break& br : breaks_[prim.geomID]) {
+    Box3f& a = out[br.interval];
+    Box3f& b = out[br.interval + 1];
+    const Box3f line = lerp(a, b, br.fraction);
+    const Box3f p = at(br.time);
+    const Vec3f pushLo = min(Vec3f(0.0f), p.lower - line.lower), pushHi = max(Vec3f(0.0f), p.upper - line.upper);
+    a.lower += pushLo;
+    b.lower += pushLo;
+    a.upper += pushHi;
+    b.upper += pushHi;
+  }
+  // Round-off: positions between keys are interpolated from the mesh's
+  // steps, whose coordinates may be far larger than the key boxes' (a vertex
+  // passing near the origin between two distant steps); pad by a few ulp of
+  // the largest coordinate the primitive has at any step, then widen.
+  float mag = 0.0f;
+  for (uint32_t k = 0; k < g.numSteps(); ++k) {
+    const Box3f b = ctx_.keyBox(prim, k);
+    mag = std::max(mag, maxComponent(max(Vec3f(std::fabs(b.lower.x), std::fabs(b.lower.y), std::fabs(b.lower.z)),
+                                         Vec3f(std::fabs(b.upper.x), std::fabs(b.upper.y), std::fabs(b.upper.z)))));
+  }
+  const Vec3f pad(mag * 0x1p-19f);
+  for (uint32_t i = 0; i <= n_; ++i) out[i] = widen(grow(out[i], pad));
+  return true;
+}
+
+}  // namespace mbrt::detail

@@ -1,0 +1,440 @@
+#include "msbvh/msbvh.h"
+
+#include <tbb/parallel_for.h>
+
+#include "bvh/inspect.h"
+#include "bvh/sah_cost.h"
+#include "bvh/simd.h"
+#include "bvh/traverse.h"
+#include "geometry/primitive_bounds.h"
+#include "geometry/primitive_intersect.h"
+#include "msbvh/key_bounds.h"
+#include "msbvh/sbvh_builder.h"
+
+namespace mbrt::detail {
+namespace {
+
+// Lanes without anything below: a box no ray can enter at any time, finite
+// so that interpolating two of them stays well defined.
+constexpr float kEmptyLo = 1e38f, kEmptyHi = -1e38f;
+constexpr uint32_t kEmptyChild = 0xFFFFFFFFu;
+
+// One key of one node: plane[axis][0 lower / 1 upper][lane].
+template <int N>
+struct alignas(32) KeyPlanes {
+  float plane[3][2][N];
+
+  void set(int lane, const Box3f& b) {
+    const bool e = b.empty();
+    for (int a = 0; a < 3; ++a) {
+      plane[a][0][lane] = e ? kEmptyLo : b.lower[a];
+      plane[a][1][lane] = e ? kEmptyHi : b.upper[a];
+    }
+  }
+  Box3f get(int lane) const {
+    Box3f b;
+    for (int a = 0; a < 3; ++a) {
+      b.lower[a] = plane[a][0][lane];
+      b.upper[a] = plane[a][1][lane];
+    }
+    return b.lower.x == kEmptyLo ? Box3f() : b;
+  }
+};
+
+template <int N>
+struct MsNode {
+  uint32_t child[N];  // inner: node index; leaf: first reference; kEmptyChild: empty lane
+  uint8_t count[N];   // 0: inner (or empty); > 0: leaf size
+  bool isEmpty(int lane) const { return child[lane] == kEmptyChild; }
+  bool isLeaf(int lane) const { return count[lane] != 0; }
+};
+
+template <int W>
+struct KeyRay {
+  Pack<W> org[3], rdir[3], tnear, frac;
+  int nearPlane[3];
+  uint32_t key;  // interval: keys key and key + 1
+
+  KeyRay(const RayQuery& ray, uint32_t segments) {
+    for (int a = 0; a < 3; ++a) {
+      org[a] = Pack<W>::set1(ray.org[a]);
+      rdir[a] = Pack<W>::set1(ray.rdir[a]);
+      nearPlane[a] = std::signbit(ray.rdir[a]) ? 1 : 0;
+    }
+    tnear = Pack<W>::set1(ray.tnear);
+    const float x = std::clamp(ray.time, 0.0f, 1.0f) * float(segments);
+    key = std::min(uint32_t(x), segments - 1);
+    frac = Pack<W>::set1(x - float(key));
+  }
+};
+
+// The node test at the interpolated box lerp(k0, k1, f) = k0 + f*(k1 - k0).
+template <int W, int N>
+inline uint32_t intersectKeys(const KeyPlanes<N>& k0, const KeyPlanes<N>& k1, const KeyRay<W>& r, float tfar,
+                              float* dist) {
+  using P = Pack<W>;
+  const P far = P::set1(tfar), scale = P::set1(kRobustFarScale), inf = P::set1(kInf);
+  uint32_t mask = 0;
+  for (int base = 0; base < N; base += W) {
+    P tn = r.tnear, tf = inf;
+    for (int a = 0; a < 3; ++a) {
+      const int nearK = r.nearPlane[a], farK = 1 - nearK;
+      const P lo0 = P::load(&k0.plane[a][nearK][base]), lo1 = P::load(&k1.plane[a][nearK][base]);
+      const P hi0 = P::load(&k0.plane[a][farK][base]), hi1 = P::load(&k1.plane[a][farK][base]);
+      const P lo = fmadd(r.frac, lo1 - lo0, lo0);
+      const P hi = fmadd(r.frac, hi1 - hi0, hi0);
+      tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
+      tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
+    }
+    tf = vmin(tf * scale, far);
+    mask |= lessEqualMask(tn, tf) << base;
+    tn.store(dist + base);
+  }
+  return mask;
+}
+
+// The same arithmetic, one lane, for inspection.
+inline float lerpKey(float a, float b, float f) { return madd(f, b - a, a); }
+
+class MsbvhBase : public Structure {
+ public:
+  virtual uint32_t keySegments() const = 0;
+};
+
+template <int N>
+class Msbvh final : public MsbvhBase, public BvhInspect {
+ public:
+  explicit Msbvh(const SceneContext& ctx) : ctx_(ctx), n_(chooseKeySegments(ctx)), bounder_(ctx, n_) {
+    const std::vector<PrimRef> prims = ctx.primitives();
+    numPrims_ = prims.size();
+    BuildBudget& budget = ctx.budget();
+    std::vector<SplitRef> refs;
+    {
+      const BuildOptions& o = ctx.options();
+      SbvhSettings s;
+      s.maxLeafSize = std::min(o.maxLeafSize, 255);
+      s.objectBins = o.sahBins;
+      s.spatialBins = o.sahBins;
+      s.traversalCost = o.traversalCost;
+      ScopedCharge scratch(budget, size_t(double(prims.size()) * (1.0 + s.maxGrowth) * 2.0 * sizeof(SplitRef)),
+                           "the MSBVH build references");
+      refs.resize(prims.size());
+      tbb::parallel_for(size_t(0), prims.size(), [&](size_t i) {
+        refs[i] = {bounder_.buildBox(prims[i]), Box3f(Vec3f(-kInf), Vec3f(kInf)), prims[i]};
+      });
+      std::erase_if(refs, [](const SplitRef& r) { return r.box.empty() || !isFinite(r.box.lower) || !isFinite(r.box.upper); });
+      std::unique_ptr<SbvhNode> root = buildSbvh(std::move(refs), s, bounder_);
+      if (root) {
+        emit(*root, 1);
+        computeLeafKeys();
+        propagate();
+      }
+    }
+    charge_ = std::make_unique<ScopedCharge>(budget, byteCount(), "the MSBVH nodes");
+    sceneArea_ = sceneSahArea(ctx);
+  }
+
+  uint32_t keySegments() const override { return n_; }
+
+  bool intersect(RayQuery& ray, Hit& hit) const override { return traverse<false, false>(ray, &hit, nullptr); }
+  bool occluded(RayQuery& ray) const override { return traverse<true, false>(ray, nullptr, nullptr); }
+  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
+    return traverse<false, true>(ray, &hit, &c);
+  }
+
+  void fillStats(AccelStats& s) const override {
+    SahSums sums;
+    sums.bytes = byteCount();
+    sums.references = prims_.size();
+    if (!nodes_.empty()) {
+      sums.innerNodes = nodes_.size();
+      sums.maxDepth = depth_ + 1;
+      std::vector<Box3f> root(n_ + 1);
+      for (int l = 0; l < N; ++l)
+        if (!nodes_[0].isEmpty(l))
+          for (uint32_t k = 0; k <= n_; ++k) root[k].extend(keys(0, k).get(l));
+      sums.inner += meanArea([&](uint32_t k) { return root[k]; });
+      for (uint32_t i = 0; i < nodes_.size(); ++i)
+        for (int l = 0; l < N; ++l) {
+          const MsNode<N>& node = nodes_[i];
+          if (node.isEmpty(l)) continue;
+          const double area = meanArea([&](uint32_t k) { return keys(i, k).get(l); });
+          if (node.isLeaf(l)) {
+            double seg = 0.0;
+            for (uint32_t r = 0; r < node.count[l]; ++r)
+              seg += double(activeSegments(ctx_, prims_[node.child[l] + r], {0.0f, 1.0f}));
+            sums.leaves += area * seg;
+            ++sums.leafNodes;
+          } else {
+            sums.inner += area;
+          }
+        }
+    }
+    sums.fill(s, sceneArea_);
+  }
+
+  // §5: same topology; every reference is re-clipped (to its region, see
+  // docs/msbvh.md) with the new vertices and the keys recomputed bottom-up.
+  bool refit() override {
+    for (uint32_t g = 0; g < ctx_.scene().numGeometries(); ++g)
+      if (ctx_.geometry(g).type() == GeometryType::Instance) return false;
+    if (chooseKeySegments(ctx_) != n_) return false;
+    if (nodes_.empty()) return numPrims_ == 0;
+    computeLeafKeys();
+    propagate();
+    sceneArea_ = sceneSahArea(ctx_);
+    return true;
+  }
+
+  void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
+    if (nodes_.empty()) return;
+    walk(0, fn);
+  }
+  std::vector<uint8_t> bytes() const override {
+    std::vector<uint8_t> out;
+    auto add = [&](const void* p, size_t n) {
+      const size_t a = out.size();
+      out.resize(a + n);
+      if (n) std::memcpy(out.data() + a, p, n);
+    };
+    add(nodes_.data(), nodes_.size() * sizeof(MsNode<N>));
+    add(keys_.data(), keys_.size() * sizeof(KeyPlanes<N>));
+    add(prims_.data(), prims_.size() * sizeof(PrimRef));
+    add(regions_.data(), regions_.size() * sizeof(Box3f));
+    return out;
+  }
+
+ private:
+  size_t byteCount() const {
+    return nodes_.size() * sizeof(MsNode<N>) + keys_.size() * sizeof(KeyPlanes<N>) +
+           prims_.size() * sizeof(PrimRef) + regions_.size() * sizeof(Box3f);
+  }
+  KeyPlanes<N>& keys(uint32_t node, uint32_t k) { return keys_[size_t(node) * (n_ + 1) + k]; }
+  const KeyPlanes<N>& keys(uint32_t node, uint32_t k) const { return keys_[size_t(node) * (n_ + 1) + k]; }
+
+  template <class BoxOfKey>
+  double meanArea(const BoxOfKey& boxOfKey) const {
+    double sum = 0.0;
+    for (int j = 0; j < 8; ++j) {
+      const float x = float(j) / 7.0f * float(n_);
+      const uint32_t k = std::min(uint32_t(x), n_ - 1);
+      const Box3f a = boxOfKey(k), b = boxOfKey(k + 1);
+      if (!a.empty() && !b.empty()) sum += double(lerp(a, b, x - float(k)).area());
+    }
+    return sum / 8.0;
+  }
+
+  // Binary SBVH -> N-wide nodes in depth-first order: a node starts with the
+  // two children of a binary node and opens its largest inner child until it
+  // has N (STBVH §3.3's collapse).
+  uint32_t emit(const SbvhNode& bin, uint32_t depth) {
+    depth_ = std::max(depth_, depth);
+    std::vector<const SbvhNode*> lanes;
+    if (bin.isLeaf()) {
+      lanes.push_back(&bin);
+    } else {
+      lanes = {bin.child[0].get(), bin.child[1].get()};
+      while (int(lanes.size()) < N) {
+        int best = -1;
+        float area = -1.0f;
+        for (int i = 0; i < int(lanes.size()); ++i)
+          if (!lanes[size_t(i)]->isLeaf() && lanes[size_t(i)]->box.halfArea() > area) {
+            best = i;
+            area = lanes[size_t(i)]->box.halfArea();
+          }
+        if (best < 0) break;
+        const SbvhNode* open = lanes[size_t(best)];
+        lanes[size_t(best)] = open->child[0].get();
+        lanes.insert(lanes.begin() + best + 1, open->child[1].get());
+      }
+    }
+    const uint32_t index = uint32_t(nodes_.size());
+    nodes_.emplace_back();
+    keys_.resize(keys_.size() + n_ + 1);
+    for (int l = 0; l < N; ++l) {
+      nodes_[index].child[l] = kEmptyChild;
+      nodes_[index].count[l] = 0;
+    }
+    for (int l = 0; l < int(lanes.size()); ++l) {
+      const SbvhNode& c = *lanes[size_t(l)];
+      if (c.isLeaf()) {
+        nodes_[index].child[l] = uint32_t(prims_.size());
+        nodes_[index].count[l] = uint8_t(c.refs.size());
+        for (const SplitRef& r : c.refs) {
+          prims_.push_back(r.prim);
+          regions_.push_back(r.region);
+        }
+      } else {
+        const uint32_t child = emit(c, depth + 1);
+        nodes_[index].child[l] = child;
+      }
+    }
+    stackSize_ = std::max(stackSize_, depth_ * uint32_t(N) + 1);
+    return index;
+  }
+
+  void computeLeafKeys() {
+    tbb::parallel_for(size_t(0), nodes_.size(), [&](size_t i) {
+      std::vector<Box3f> lane(n_ + 1), piece(n_ + 1);
+      const MsNode<N>& node = nodes_[i];
+      for (int l = 0; l < N; ++l) {
+        if (node.isEmpty(l) || !node.isLeaf(l)) continue;
+        std::fill(lane.begin(), lane.end(), Box3f());
+        for (uint32_t r = 0; r < node.count[l]; ++r) {
+          const uint32_t ref = node.child[l] + r;
+          if (!bounder_.pieceKeys(prims_[ref], regions_[ref], piece.data())) continue;
+          for (uint32_t k = 0; k <= n_; ++k) lane[k].extend(piece[k]);
+        }
+        for (uint32_t k = 0; k <= n_; ++k) keys(uint32_t(i), k).set(l, lane[k]);
+      }
+    });
+  }
+
+  // Inner lanes: the union of the child's lanes, per key (children come
+  // after their parents in depth-first order).
+  void propagate() {
+    for (size_t i = nodes_.size(); i-- > 0;) {
+      const MsNode<N>& node = nodes_[i];
+      for (int l = 0; l < N; ++l) {
+        if (node.isEmpty(l)) {
+          for (uint32_t k = 0; k <= n_; ++k) keys(uint32_t(i), k).set(l, Box3f());
+          continue;
+        }
+        if (node.isLeaf(l)) continue;
+        for (uint32_t k = 0; k <= n_; ++k) {
+          Box3f b;
+          const KeyPlanes<N>& c = keys(node.child[l], k);
+          for (int cl = 0; cl < N; ++cl) b.extend(c.get(cl));
+          keys(uint32_t(i), k).set(l, b);
+        }
+      }
+    }
+  }
+
+  std::pair<uint32_t, uint32_t> walk(uint32_t index, const std::function<void(const LaneView&)>& fn) const {
+    uint32_t first = ~0u, end = 0;
+    const MsNode<N>& node = nodes_[index];
+    for (int l = 0; l < N; ++l) {
+      if (node.isEmpty(l)) continue;
+      std::pair<uint32_t, uint32_t> r{node.child[l], node.child[l] + node.count[l]};
+      if (!node.isLeaf(l)) r = walk(node.child[l], fn);
+      auto box = [this, index, l](float t) {
+        const float x = std::clamp(t, 0.0f, 1.0f) * float(n_);
+        const uint32_t k = std::min(uint32_t(x), n_ - 1);
+        const float f = x - float(k);
+        const KeyPlanes<N>&a = keys(index, k), &b = keys(index, k + 1);
+        Box3f out;
+        for (int ax = 0; ax < 3; ++ax) {
+          out.lower[ax] = lerpKey(a.plane[ax][0][l], b.plane[ax][0][l], f);
+          out.upper[ax] = lerpKey(a.plane[ax][1][l], b.plane[ax][1][l], f);
+        }
+        return out;
+      };
+      fn(LaneView{{0.0f, 1.0f}, box, std::span<const PrimRef>(prims_.data() + r.first, r.second - r.first)});
+      first = std::min(first, r.first);
+      end = std::max(end, r.second);
+    }
+    return {first, end};
+  }
+
+  template <bool AnyHit, bool Count>
+  bool traverse(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
+    if (nodes_.empty()) return false;
+    constexpr int W = packWidth<N>();
+    constexpr uint32_t kLocalStack = 256;
+    TraversalItem local[kLocalStack];
+    std::vector<TraversalItem> big;
+    TraversalItem* stack = local;
+    if (stackSize_ > kLocalStack) {
+      big.resize(stackSize_);
+      stack = big.data();
+    }
+    const KeyRay<W> r(ray, n_);
+    const size_t stride = n_ + 1;
+    const KeyPlanes<N>* keyBase = keys_.data() + r.key;
+    alignas(32) float dist[N];
+    bool found = false;
+    uint32_t sp = 0;
+    stack[sp++] = {0, 0, ray.tnear};
+    while (sp != 0) {
+      TraversalItem item = stack[--sp];
+      if (!AnyHit && item.dist > ray.tfar) continue;
+      while (true) {
+        if (item.count == 0) {
+          const MsNode<N>& node = nodes_[item.child];
+          const KeyPlanes<N>* k = keyBase + size_t(item.child) * stride;
+          if constexpr (Count) {
+            ++counters->nodesVisited;
+            counters->boxTests += N;
+          }
+          uint32_t mask = intersectKeys<W>(k[0], k[1], r, ray.tfar, dist);
+          if (mask == 0) break;
+          int lane = __builtin_ctz(mask);
+          mask &= mask - 1;
+          if (mask == 0) {
+            item = {node.child[lane], node.count[lane], dist[lane]};
+            continue;
+          }
+          TraversalItem hits[N];
+          int n = 0;
+          hits[n++] = {node.child[lane], node.count[lane], dist[lane]};
+          do {
+            lane = __builtin_ctz(mask);
+            mask &= mask - 1;
+            TraversalItem h{node.child[lane], node.count[lane], dist[lane]};
+            int j = n++;
+            while (j > 0 && hits[j - 1].dist < h.dist) {
+              hits[j] = hits[j - 1];
+              --j;
+            }
+            hits[j] = h;
+          } while (mask != 0);
+          for (int i = 0; i + 1 < n; ++i) stack[sp++] = hits[i];
+          item = hits[n - 1];
+          continue;
+        }
+        if constexpr (Count) counters->primitiveTests += item.count;
+        const PrimRef* prims = prims_.data() + item.child;
+        for (uint32_t i = 0; i < item.count; ++i) {
+          if constexpr (AnyHit) {
+            if (occludedPrimitive(ctx_, prims[i], ray)) return true;
+          } else {
+            found |= intersectPrimitive(ctx_, prims[i], ray, *hit, Count ? counters : nullptr);
+          }
+        }
+        break;
+      }
+    }
+    return found;
+  }
+
+  const SceneContext& ctx_;
+  uint32_t n_;
+  KeyBounder bounder_;
+  std::vector<MsNode<N>> nodes_;
+  std::vector<KeyPlanes<N>> keys_;  // (n_ + 1) per node
+  std::vector<PrimRef> prims_;
+  std::vector<Box3f> regions_;  // per reference: its spatial-split region (for refits)
+  uint32_t depth_ = 0;
+  uint32_t stackSize_ = 1;
+  size_t numPrims_ = 0;
+  double sceneArea_ = 0.0;
+  std::unique_ptr<ScopedCharge> charge_;
+};
+
+}  // namespace
+
+std::unique_ptr<Structure> makeMsbvh(const SceneContext& context) {
+  switch (context.options().branching) {
+    case 2: return std::make_unique<Msbvh<2>>(context);
+    case 4: return std::make_unique<Msbvh<4>>(context);
+    default: return std::make_unique<Msbvh<8>>(context);
+  }
+}
+
+uint32_t msbvhKeySegments(const Structure& structure) {
+  const auto* m = dynamic_cast<const MsbvhBase*>(&structure);
+  return m ? m->keySegments() : 0;
+}
+
+}  // namespace mbrt::detail
