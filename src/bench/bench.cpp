@@ -297,10 +297,11 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
     const Scene& scene = *ps.scene;
     const std::string tag = "[" + std::to_string(si + 1) + "/" + std::to_string(scenes.size()) + " " + ps.name + "] ";
 
-    // Reference for the bounces: bvh-interp, else embree, else brute.
+    // Reference for the bounces: the fastest structure at hand on every scene
+    // (bvh-interp is pathological on `rotate`, which is the point of it).
     progress(tag + "generating rays");
     std::unique_ptr<Target> reference;
-    for (AccelKind k : {AccelKind::BvhInterp, AccelKind::Embree, AccelKind::Brute}) {
+    for (AccelKind k : {AccelKind::Embree, AccelKind::Stbvh, AccelKind::BvhInterp, AccelKind::Brute}) {
       try {
         reference = accelCandidate(k).build(scene);
         break;
