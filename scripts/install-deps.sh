@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libtbb-dev libgtest-dev libcli11-dev libpng-dev libembree-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev
   git ca-certificates
 )
 

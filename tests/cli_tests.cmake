@@ -62,3 +62,12 @@ set_tests_properties(cli.trace_procedural PROPERTIES
 add_test(NAME cli.error_unknown_scene COMMAND mbrt_cli stats --scene no-such-scene)
 set_tests_properties(cli.error_unknown_scene PROPERTIES
   PASS_REGULAR_EXPRESSION "mbrt: error: unknown scene 'no-such-scene'.*translate")
+
+# An OBJ keyframe sequence given as a glob (quoted on a shell command line).
+add_test(NAME cli.stats_obj_sequence
+         COMMAND mbrt_cli stats --scene ${PROJECT_SOURCE_DIR}/tests/data/keys/key_*.obj --accel brute --load-info)
+set_tests_properties(cli.stats_obj_sequence PROPERTIES
+  PASS_REGULAR_EXPRESSION "OBJ sequence: 2 keys")
+add_test(NAME cli.error_bad_steps COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --steps zero)
+set_tests_properties(cli.error_bad_steps PROPERTIES
+  PASS_REGULAR_EXPRESSION "--steps must be a number")

@@ -1,5 +1,6 @@
 // `mbrt bench`: every structure on the same rays, next to Embree and the
 // frozen-time bound (issue 4). The engine is src/bench/.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -8,6 +9,7 @@
 
 #include "bench/bench.h"
 #include "commands.h"
+#include "mbrt/loaders.h"
 
 namespace mbrt::tools {
 namespace {
@@ -48,7 +50,7 @@ struct BenchArgs {
 void registerBenchCommand(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
   auto* cmd = app.add_subcommand("bench", "Benchmark every structure, Embree and the frozen bound on the same rays");
-  cmd->add_option("--scene", args->scenes, "Comma-separated scene names (default: the procedural suite)");
+  cmd->add_option("--scene", args->scenes, "Comma-separated scenes: built-in names or files/globs as --scene elsewhere (default: the procedural suite)");
   cmd->add_option("--accel", args->accels, "Comma-separated accel kinds (default: all available but brute)");
   cmd->add_flag("--quick", args->quick, "Small scenes and ray sets: the whole suite in a few minutes");
   cmd->add_option("--size", args->size, "Scene size knob (1 = the default sizes)");
@@ -74,7 +76,25 @@ void registerBenchCommand(CLI::App& app) {
     o.accels = splitList(args->accels);
     o.commit = gitCommit();
     o.progress = stderr;
-    const bench::Report report = bench::run(o);
+    // Names that are not built-in scenes are loaded like --scene elsewhere
+    // (files, sequences, JSON scene files) with their default options.
+    const auto builtIn = proceduralSceneNames();
+    bool files = false;
+    for (const std::string& n : o.scenes) files = files || std::find(builtIn.begin(), builtIn.end(), n) == builtIn.end();
+    bench::Report report;
+    if (files) {
+      std::vector<ProceduralScene> scenes;
+      for (const std::string& n : o.scenes) {
+        LoadOptions lo;
+        lo.size = o.size;
+        lo.seed = o.seed;
+        SceneDescription d = loadSceneSpec(n, lo);
+        scenes.push_back({d.name, d.scene, d.camera.keys.front()});
+      }
+      report = bench::run(o, scenes);
+    } else {
+      report = bench::run(o);
+    }
     std::cout << bench::toMarkdown(report);
     auto write = [](const std::string& path, const std::string& text) {
       std::ofstream f(path);

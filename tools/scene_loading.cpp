@@ -6,7 +6,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "mbrt/io.h"
+#include <chrono>
+#include <sstream>
+
+#include "mbrt/loaders.h"
 
 namespace mbrt::tools {
 namespace {
@@ -15,38 +18,6 @@ std::string joinNames(const std::vector<std::string>& names) {
   std::string s;
   for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
   return s;
-}
-
-bool endsWithObj(const std::string& s) {
-  if (s.size() < 4) return false;
-  std::string ext = s.substr(s.size() - 4);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext == ".obj";
-}
-
-// Looks at the scene's vertices at every step to frame it.
-Box3f sceneBounds(const Scene& scene) {
-  Box3f box;
-  for (uint32_t g = 0; g < scene.numGeometries(); ++g) {
-    const Geometry& geom = scene.geometry(g);
-    if (geom.type() == GeometryType::Instance) continue;
-    for (uint32_t s = 0; s < geom.numSteps(); ++s)
-      for (size_t i = 0; i < geom.vertices(s).count; ++i) box.extend(geom.vertexAtStep(s, uint32_t(i)));
-  }
-  return box;
-}
-
-CameraSpec frameForObj(const Box3f& box) {
-  CameraSpec cam;
-  if (box.empty()) return cam;
-  const Vec3f c = box.center();
-  const float radius = std::max(0.5f * length(box.size()), 1e-6f);
-  const float half = 0.5f * cam.verticalFovDegrees * 3.14159265f / 180.0f;
-  const float dist = 1.1f * radius / std::sin(half);
-  cam.target = c;
-  cam.eye = c + normalize(Vec3f(0.35f, 0.3f, 1.0f)) * dist;
-  cam.up = {0, 1, 0};
-  return cam;
 }
 
 }  // namespace
@@ -65,8 +36,19 @@ AccelKind defaultAccelKind() {
 
 void addSceneOptions(CLI::App& cmd, SceneArgs& args) {
   cmd.add_option("--scene", args.scene,
-                 "Built-in scene (" + joinNames(proceduralSceneNames()) + ") or a path to a .obj file")
+                 "Built-in scene (" + joinNames(proceduralSceneNames()) +
+                     "), a .obj/.ply/.gltf/.glb/.json file, or a folder or quoted glob of OBJ keyframes")
       ->required();
+  cmd.add_option("--clip", args.clip, "glTF animation clip, by name or index (default: the first)");
+  cmd.add_option("--shutter", args.shutter,
+                 "Shutter A,B in seconds of the glTF clip (default: its start, open for 1/(2*fps) s); A,A: a sharp frame");
+  cmd.add_option("--steps", args.steps, "Time steps per moving glTF mesh/instance: N or auto")->capture_default_str();
+  cmd.add_option("--fps", args.fps, "Frame rate for the default shutter (180 degrees)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd.add_option("--motion", args.motion,
+                 "Procedural motion of a static .obj/.ply mesh, e.g. 'translate:0.5,0,0;rotate:90[:0,1,0]'");
+  cmd.add_flag("--load-info", args.verbose, "Print what the scene loader chose (clip, shutter, steps per mesh)");
   cmd.add_option("--size", args.size, "Size factor of a built-in scene (1 = the default sizes)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -97,25 +79,46 @@ void addAccelOptions(CLI::App& cmd, AccelArgs& args, const std::string& defaultK
 }
 
 LoadedScene loadScene(const SceneArgs& args) {
-  LoadedScene out;
-  std::error_code ec;
-  const bool isFile = std::filesystem::is_regular_file(args.scene, ec);
-  if (endsWithObj(args.scene) || isFile) {
-    if (!endsWithObj(args.scene))
-      throw UsageError("scene file '" + args.scene + "' is not a .obj file (only OBJ files are read for now)");
-    out.name = args.scene;
-    out.scene = loadObjScene(args.scene);
-    out.camera.keys = {frameForObj(sceneBounds(*out.scene))};
-    return out;
+  LoadOptions opt;
+  opt.size = args.size;
+  opt.seed = args.seed;
+  opt.motion = args.motion;
+  opt.gltf.clip = args.clip;
+  opt.gltf.fps = args.fps;
+  if (!args.shutter.empty()) {
+    std::stringstream ss(args.shutter);
+    double a = 0, b = 0;
+    char comma = 0;
+    if (!(ss >> a >> comma >> b) || comma != ',' || !ss.eof() || !std::isfinite(a) || !std::isfinite(b) || b < a)
+      throw UsageError("--shutter must be A,B with A <= B (seconds), got '" + args.shutter + "'");
+    opt.gltf.shutterOpen = a;
+    opt.gltf.shutterClose = b;
   }
+  if (args.steps != "auto") {
+    char* end = nullptr;
+    const long n = std::strtol(args.steps.c_str(), &end, 10);
+    if (args.steps.empty() || *end != '\0' || n < 1 || n > 1024)
+      throw UsageError("--steps must be a number from 1 to 1024 or 'auto', got '" + args.steps + "'");
+    opt.gltf.steps.steps = uint32_t(n);
+  }
+  if (!args.motion.empty()) parseProceduralMotion(args.motion);  // bad specs fail before loading
+
   const auto names = proceduralSceneNames();
-  if (std::find(names.begin(), names.end(), args.scene) == names.end())
+  std::error_code ec;
+  const bool known = std::find(names.begin(), names.end(), args.scene) != names.end() ||
+                     std::filesystem::exists(args.scene, ec) || isObjSequenceSpec(args.scene) ||
+                     args.scene.find('/') != std::string::npos || args.scene.find('.') != std::string::npos;
+  if (!known)
     throw UsageError("unknown scene '" + args.scene + "': not a built-in scene (" + joinNames(names) +
-                     ") nor a .obj file");
-  ProceduralScene p = makeProceduralScene(args.scene, args.size, args.seed);
-  out.name = p.name;
-  out.scene = std::move(p.scene);
-  out.camera.keys = {p.camera};
+                     ") nor a file, folder or glob");
+  LoadReport report;
+  const auto start = std::chrono::steady_clock::now();
+  LoadedScene out = loadSceneSpec(args.scene, opt, &report);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (args.verbose) {
+    std::fprintf(stderr, "mbrt: loaded %s in %.3f s\n", args.scene.c_str(), seconds);
+    for (const std::string& line : report.lines) std::fprintf(stderr, "mbrt:   %s\n", line.c_str());
+  }
   return out;
 }
 

@@ -23,9 +23,17 @@ class UsageError : public std::runtime_error {
 };
 
 struct SceneArgs {
-  std::string scene;  // a built-in scene's name or a path to a .obj file
+  // A built-in scene's name; a .obj, .ply, .gltf, .glb or .json file; a
+  // folder or a quoted glob of OBJ keyframes (docs/input.md).
+  std::string scene;
   double size = 1.0;
   uint64_t seed = 1;
+  std::string clip;     // glTF animation clip (name or index)
+  std::string shutter;  // "A,B" in seconds of the clip (glTF, JSON scenes)
+  std::string steps = "auto";  // N or auto
+  double fps = 24.0;
+  std::string motion;   // procedural motion of a static mesh
+  bool verbose = false; // print what the loader chose (per-geometry steps)
 };
 
 struct AccelArgs {
@@ -48,7 +56,8 @@ std::string accelKindList();
 // bvh-interp when this build has it, otherwise brute.
 AccelKind defaultAccelKind();
 
-// Throws UsageError for an unknown scene name, Error for a bad file.
+// Throws UsageError for an unknown scene name or bad options, Error for a
+// bad file.
 LoadedScene loadScene(const SceneArgs& args);
 
 // Builds with the kind given (UsageError when unknown), or with

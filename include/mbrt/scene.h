@@ -4,7 +4,8 @@
 // Motion model. A geometry has S >= 1 equidistant time steps over its own
 // time range [lo,hi) inside [0,1] (a range ending at 1 contains 1). Step k
 // sits at time lo + k*(hi-lo)/(S-1); between steps, positions (or instance
-// matrices, element-wise) are linearly interpolated. Outside its range a
+// matrices, element-wise) are linearly interpolated; instances may instead
+// carry SRT keys (scale and translation lerped, rotation slerped). Outside its range a
 // geometry does not exist: rays at such times pass through it.
 //
 // Vertex data. Each step is a VertexBuffer: a pointer, a stride and a count.
@@ -25,6 +26,7 @@
 #include <vector>
 
 #include "mbrt/math.h"
+#include "mbrt/quaternion.h"
 #include "mbrt/ray.h"
 
 namespace mbrt {
@@ -99,7 +101,14 @@ class Geometry {
 
   // Instances.
   const Scene* instancedScene() const { return child_.get(); }
+  const std::shared_ptr<const Scene>& instancedSceneShared() const { return child_; }
+  // The key matrices (for SRT instances: each key composed as T*R*S).
   std::span<const Affine3f> transforms() const { return transforms_; }
+  // SRT instances: the keys as given (quaternions normalized, and each on
+  // the same hemisphere as the previous one so that slerp takes the
+  // shorter arc); empty for matrix keys.
+  bool hasSRTKeys() const { return !srtKeys_.empty(); }
+  std::span<const SRTKey> srtKeys() const { return srtKeys_; }
 
   // Maps a time inside the range to a step segment and a fraction in [0,1].
   void segmentAt(float time, uint32_t& segment, float& fraction) const {
@@ -130,7 +139,9 @@ class Geometry {
     uint32_t s;
     float f;
     segmentAt(time, s, f);
-    return numSteps_ == 1 ? transforms_[0] : lerp(transforms_[s], transforms_[s + 1], f);
+    if (numSteps_ == 1) return transforms_[0];
+    if (!srtKeys_.empty()) return lerp(srtKeys_[s], srtKeys_[s + 1], f).toAffine();
+    return lerp(transforms_[s], transforms_[s + 1], f);
   }
 
  private:
@@ -154,6 +165,7 @@ class Geometry {
 
   std::shared_ptr<const Scene> child_;
   std::vector<Affine3f> transforms_;
+  std::vector<SRTKey> srtKeys_;
 };
 
 class Scene {
@@ -184,6 +196,13 @@ class Scene {
   // (object-to-world), interpolated element-wise between keys.
   uint32_t addInstance(std::shared_ptr<const Scene> scene, std::vector<Affine3f> transforms,
                        TimeRange range = {});
+  // An instance with S = keys.size() SRT keys: between keys, scale and
+  // translation are interpolated linearly, the rotation by slerp along the
+  // shorter arc, composed as T*R*S (see quaternion.h). Quaternions are
+  // normalized here; validate() refuses non-finite keys, a zero or
+  // non-finite quaternion, a zero scale component and a scale component
+  // that changes sign between keys (it would pass through zero).
+  uint32_t addInstance(std::shared_ptr<const Scene> scene, std::vector<SRTKey> keys, TimeRange range = {});
 
   // Replaces the vertex buffer of one step (e.g. for the next frame).
   void setVertices(uint32_t geomID, uint32_t step, VertexBuffer buffer);

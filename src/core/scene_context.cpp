@@ -4,6 +4,7 @@
 #include <set>
 
 #include "geometry/primitive_bounds.h"
+#include "geometry/srt_bounds.h"
 
 namespace mbrt::detail {
 
@@ -128,6 +129,7 @@ void SceneContext::computeGeometryKeyBoxes() {
 // the element-wise lerp of M_j and M_j+1, so M(t)x is a convex combination of
 // M_j x and M_j+1 x, and x lies in the child's bounds over that interval:
 // the corners of that box under both matrices bound the instance there.
+// SRT keys move points on curves; srtSegmentBounds bounds them (srt_bounds.h).
 void SceneContext::computeInstanceKeyBoxes() {
   for (uint32_t id = 0; id < geometries_.size(); ++id) {
     const Geometry& g = *geometries_[id];
@@ -138,6 +140,14 @@ void SceneContext::computeInstanceKeyBoxes() {
     out.assign(keys.size(), Box3f());
     if (keys.size() == 1) {
       out[0] = transformBox(keys[0], child.boundsOver(g.timeRange()));
+    } else if (g.hasSRTKeys()) {
+      const auto srt = g.srtKeys();
+      for (uint32_t j = 0; j + 1 < keys.size(); ++j) {
+        const Box3f c = child.boundsOver({g.stepTime(j), g.stepTime(j + 1)});
+        const Box3f seg = srtSegmentBounds(srt[j], srt[j + 1], c);
+        out[j].extend(seg);
+        out[j + 1].extend(seg);
+      }
     } else {
       for (uint32_t j = 0; j + 1 < keys.size(); ++j) {
         const Box3f c = child.boundsOver({g.stepTime(j), g.stepTime(j + 1)});

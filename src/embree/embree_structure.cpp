@@ -18,7 +18,8 @@
 // - instances: RTC_GEOMETRY_TYPE_INSTANCE over the Embree scene of the
 //   instanced scene's structure (built by the SceneContext with the same
 //   kind), one 3x4 column-major transform per step (element-wise
-//   interpolation, Embree's default for matrix keys). Embree 3 as packaged
+//   interpolation, Embree's default for matrix keys), or for SRT keys one
+//   RTCQuaternionDecomposition per step (Embree slerps them). Embree 3 as packaged
 //   by Debian supports one instance level only (RTC_MAX_INSTANCE_LEVEL_COUNT):
 //   nested instances are refused with an Error.
 // - partial time ranges: rtcSetGeometryTimeRange. A static geometry with a
@@ -379,6 +380,26 @@ class EmbreeStructure final : public Structure {
         rtcSetGeometryInstancedScene(geom, child->embreeScene());
         rtcSetGeometryTimeStepCount(geom, steps);
         for (uint32_t k = 0; k < steps; ++k) {
+          if (g.hasSRTKeys()) {
+            // SRT keys: Embree lerps scale and translation and slerps the
+            // quaternion, as mbrt does (the keys' quaternions are already on
+            // one hemisphere, so both take the same arc).
+            const SRTKey& key = g.srtKeys()[sourceStep(g, k)];
+            RTCQuaternionDecomposition qd;
+            rtcInitQuaternionDecomposition(&qd);
+            qd.scale_x = key.scale.x;
+            qd.scale_y = key.scale.y;
+            qd.scale_z = key.scale.z;
+            qd.quaternion_r = key.rotation.w;
+            qd.quaternion_i = key.rotation.x;
+            qd.quaternion_j = key.rotation.y;
+            qd.quaternion_k = key.rotation.z;
+            qd.translation_x = key.translation.x;
+            qd.translation_y = key.translation.y;
+            qd.translation_z = key.translation.z;
+            rtcSetGeometryTransformQuaternion(geom, k, &qd);
+            continue;
+          }
           // Affine3f is (vx, vy, vz, p): exactly a column-major 3x4 matrix.
           const Affine3f& a = g.transforms()[sourceStep(g, k)];
           const float m[12] = {a.vx.x, a.vx.y, a.vx.z, a.vy.x, a.vy.y, a.vy.z,

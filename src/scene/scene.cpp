@@ -103,6 +103,23 @@ uint32_t Scene::addInstance(std::shared_ptr<const Scene> scene, std::vector<Affi
   return numGeometries() - 1;
 }
 
+uint32_t Scene::addInstance(std::shared_ptr<const Scene> scene, std::vector<SRTKey> keys, TimeRange range) {
+  Geometry& g = add(GeometryType::Instance);
+  g.numPrimitives_ = 1;
+  g.child_ = std::move(scene);
+  for (size_t k = 0; k < keys.size(); ++k) {
+    Quaternion& q = keys[k].rotation;
+    const float n = q.norm();
+    if (q.isFinite() && n > 0 && std::isfinite(n)) q = q.normalized();
+    if (k > 0 && dot(keys[k - 1].rotation, q) < 0) q = -q;  // same rotation, shorter arc
+  }
+  g.srtKeys_ = std::move(keys);
+  g.transforms_.reserve(g.srtKeys_.size());
+  for (const SRTKey& k : g.srtKeys_) g.transforms_.push_back(k.toAffine());
+  g.setSteps(uint32_t(g.srtKeys_.size()), range);
+  return numGeometries() - 1;
+}
+
 void Scene::setVertices(uint32_t geomID, uint32_t step, VertexBuffer buffer) {
   Geometry& g = mutableGeometry(geomID);
   if (g.type_ == GeometryType::Instance) throw Error(where(geomID) + " is an instance: it has no vertices");
@@ -154,6 +171,20 @@ void Scene::validate(int depthLeft, std::vector<const Scene*>& path, int maxDept
       throw Error(where(id) + ": needs at least one time step (S >= 1), got S = 0");
     if (g.type_ == GeometryType::Instance) {
       if (!g.child_) throw Error(where(id) + ": instance of a null scene");
+      for (size_t k = 0; k < g.srtKeys_.size(); ++k) {
+        const SRTKey& key = g.srtKeys_[k];
+        const std::string at = where(id) + ": SRT key " + std::to_string(k);
+        if (!isFinite(key.scale) || !isFinite(key.translation))
+          throw Error(at + " has a non-finite scale or translation");
+        if (!key.rotation.isFinite() || !(key.rotation.norm() > 0.5f))
+          throw Error(at + " has a zero or non-finite rotation quaternion");
+        for (int a = 0; a < 3; ++a) {
+          if (key.scale[a] == 0.0f) throw Error(at + " has a zero scale on axis " + "xyz"[a]);
+          if (k > 0 && (key.scale[a] > 0) != (g.srtKeys_[k - 1].scale[a] > 0))
+            throw Error(at + ": scale on axis " + std::string(1, "xyz"[a]) +
+                        " changes sign from the previous key (it would pass through zero)");
+        }
+      }
       for (size_t k = 0; k < g.transforms_.size(); ++k) {
         const Affine3f& m = g.transforms_[k];
         if (!m.isFinite()) throw Error(where(id) + ": transform key " + std::to_string(k) + " is not finite");

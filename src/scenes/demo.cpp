@@ -53,14 +53,17 @@ ProceduralScene makeDemo(double size, uint64_t seed) {
 
   // The propeller: faces the camera side, a quarter turn over the shutter.
   auto propeller = makePropeller(size);
-  const Affine3f mount = Affine3f::translate(hubPos + Vec3f{0.0f, 0.0f, 0.12f}) *
-                         Affine3f::rotate({0, 1, 0}, 0.45f);
+  // SRT keys: the blades keep their shape between keys (slerp), where
+  // element-wise matrix keys would shrink them.
+  const Quaternion mount = Quaternion::fromAxisAngle({0, 1, 0}, 0.45f);
   const float spin = (rng.uniform() < 0.5f ? -0.5f : 0.5f) * kPi;
   const float spin0 = rng.uniform(0.0f, 2.0f * kPi);
   constexpr int kKeys = 33;
-  std::vector<Affine3f> keys;
+  std::vector<SRTKey> keys;
   for (int k = 0; k < kKeys; ++k)
-    keys.push_back(mount * Affine3f::rotate({0, 0, 1}, spin0 + spin * float(k) / float(kKeys - 1)));
+    keys.push_back({Vec3f(1.0f),
+                    mount * Quaternion::fromAxisAngle({0, 0, 1}, spin0 + spin * float(k) / float(kKeys - 1)),
+                    hubPos + Vec3f{0.0f, 0.0f, 0.12f}});
   scene->addInstance(std::move(propeller), std::move(keys));
 
   // The ball: falls, squashes on the floor at t = 0.5, bounces up again,

@@ -1,0 +1,36 @@
+// One entry point for every input mbrt reads: built-in scene names, OBJ,
+// PLY, glTF, JSON scene files, and OBJ keyframe sequences (a folder or a
+// glob). See docs/input.md.
+#pragma once
+
+#include <string>
+
+#include "mbrt/gltf.h"
+#include "mbrt/io.h"
+#include "mbrt/scene_description.h"
+
+namespace mbrt {
+
+struct LoadOptions {
+  GltfOptions gltf;    // clip, shutter (seconds), fps, steps
+  std::string motion;  // procedural motion of static .obj/.ply meshes (parseProceduralMotion), empty: none
+  double size = 1.0;   // built-in scenes
+  uint64_t seed = 1;
+};
+
+// What `spec` names, by its form: a built-in scene name; a folder or a
+// pattern with * ? [ (OBJ keyframe sequence); a file by extension (.obj,
+// .ply, .gltf, .glb, .json). Throws Error for unknown names, missing or bad
+// files; the message names the file.
+SceneDescription loadSceneSpec(const std::string& spec, const LoadOptions& options = {}, LoadReport* report = nullptr);
+
+// A JSON scene file (docs/input.md): objects from files, sequences and
+// built-in scenes with transforms and diffuse colours; camera, shutter,
+// lights, sky. Relative paths are relative to the file's folder.
+SceneDescription loadSceneFile(const std::string& path, const LoadOptions& options = {}, LoadReport* report = nullptr);
+
+// The camera used when an input has none: frames the scene's bounds over
+// all steps.
+CameraSpec frameScene(const Scene& scene);
+
+}  // namespace mbrt

@@ -1,0 +1,158 @@
+// Reading a glTF file with tinygltf, and reading its accessors.
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "io/gltf_internal.h"
+
+namespace mbrt::gltf {
+namespace {
+
+// Images are not needed (only geometry, animation and base colours).
+bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+bool hasGlbMagic(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {};
+  in.read(magic, 4);
+  return in && std::memcmp(magic, "glTF", 4) == 0;
+}
+
+double normalizedValue(const unsigned char* p, int componentType, bool normalized) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE: { double v; std::memcpy(&v, p, 8); return v; }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: { const double v = int8_t(*p); return normalized ? std::max(v / 127.0, -1.0) : v; }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { const double v = *p; return normalized ? v / 255.0 : v; }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t s; std::memcpy(&s, p, 2); return normalized ? std::max(s / 32767.0, -1.0) : s; }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t s; std::memcpy(&s, p, 2); return normalized ? s / 65535.0 : s; }
+    case TINYGLTF_COMPONENT_TYPE_INT: { int32_t s; std::memcpy(&s, p, 4); return s; }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t s; std::memcpy(&s, p, 4); return s; }
+  }
+  return 0.0;
+}
+
+// Reads `count` elements of `components` values at view + offset into out.
+void readElements(const Document& doc, int viewIndex, size_t offset, int componentType, bool normalized,
+                  size_t count, int components, const std::string& what, double* out) {
+  const tinygltf::Model& m = *doc.model;
+  if (viewIndex < 0 || size_t(viewIndex) >= m.bufferViews.size())
+    doc.fail(what + ": buffer view " + std::to_string(viewIndex) + " does not exist");
+  const tinygltf::BufferView& view = m.bufferViews[size_t(viewIndex)];
+  if (view.buffer < 0 || size_t(view.buffer) >= m.buffers.size())
+    doc.fail(what + ": buffer " + std::to_string(view.buffer) + " does not exist");
+  const std::vector<unsigned char>& data = m.buffers[size_t(view.buffer)].data;
+  const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(componentType));
+  if (componentSize <= 0) doc.fail(what + ": unknown component type " + std::to_string(componentType));
+  const size_t elementSize = size_t(componentSize) * size_t(components);
+  const size_t stride = view.byteStride ? view.byteStride : elementSize;
+  if (count == 0) return;
+  const size_t need = offset + (count - 1) * stride + elementSize;
+  if (need > view.byteLength || view.byteOffset + view.byteLength > data.size())
+    doc.fail(what + ": needs " + std::to_string(need) + " bytes of buffer view " + std::to_string(viewIndex) +
+             ", which has " + std::to_string(view.byteLength) + " (of a buffer of " + std::to_string(data.size()) +
+             " bytes): truncated or corrupt file");
+  const unsigned char* base = data.data() + view.byteOffset + offset;
+  for (size_t i = 0; i < count; ++i)
+    for (int c = 0; c < components; ++c)
+      out[i * size_t(components) + size_t(c)] =
+          normalizedValue(base + i * stride + size_t(c) * size_t(componentSize), componentType, normalized);
+}
+
+std::vector<double> readAccessor(const Document& doc, int index, int components, const std::string& what) {
+  const tinygltf::Model& m = *doc.model;
+  if (index < 0 || size_t(index) >= m.accessors.size())
+    doc.fail(what + ": accessor " + std::to_string(index) + " does not exist");
+  const tinygltf::Accessor& a = m.accessors[size_t(index)];
+  const int n = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+  if (n != components)
+    doc.fail(what + ": accessor " + std::to_string(index) + " has " + std::to_string(n) +
+             " components per element, expected " + std::to_string(components));
+  std::vector<double> out(a.count * size_t(components), 0.0);
+  if (a.bufferView >= 0)
+    readElements(doc, a.bufferView, a.byteOffset, a.componentType, a.normalized, a.count, components, what, out.data());
+  if (a.sparse.isSparse) {
+    const size_t sc = size_t(a.sparse.count);
+    std::vector<double> idx(sc), vals(sc * size_t(components));
+    readElements(doc, a.sparse.indices.bufferView, size_t(a.sparse.indices.byteOffset), a.sparse.indices.componentType,
+                 false, sc, 1, what + " (sparse indices)", idx.data());
+    readElements(doc, a.sparse.values.bufferView, size_t(a.sparse.values.byteOffset), a.componentType, a.normalized,
+                 sc, components, what + " (sparse values)", vals.data());
+    for (size_t i = 0; i < sc; ++i) {
+      if (idx[i] < 0 || idx[i] >= double(a.count)) doc.fail(what + ": sparse index out of range");
+      for (int c = 0; c < components; ++c)
+        out[size_t(idx[i]) * size_t(components) + size_t(c)] = vals[i * size_t(components) + size_t(c)];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void Document::fail(const std::string& what) const { throw Error(path + ": " + what); }
+
+Document readDocument(const std::string& path) {
+  Document doc;
+  doc.path = path;
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  }
+  doc.model = std::make_shared<tinygltf::Model>();
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&ignoreImage, nullptr);
+  std::string err, warn;
+  bool ok = false;
+  try {
+    ok = hasGlbMagic(path) ? loader.LoadBinaryFromFile(doc.model.get(), &err, &warn, path)
+                           : loader.LoadASCIIFromFile(doc.model.get(), &err, &warn, path);
+  } catch (const std::exception& e) {
+    doc.fail(std::string("not a valid glTF file (") + e.what() + ")");
+  }
+  if (!ok) {
+    while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+    for (char& c : err)
+      if (c == '\n') c = ';';
+    doc.fail("not a valid glTF file: " + (err.empty() ? std::string("unknown error") : err));
+  }
+  return doc;
+}
+
+size_t accessorCount(const Document& doc, int index) {
+  if (index < 0 || size_t(index) >= doc.model->accessors.size())
+    doc.fail("accessor " + std::to_string(index) + " does not exist");
+  return doc.model->accessors[size_t(index)].count;
+}
+
+std::vector<float> readFloats(const Document& doc, int accessor, int components, const std::string& what) {
+  const std::vector<double> d = readAccessor(doc, accessor, components, what);
+  std::vector<float> out(d.size());
+  for (size_t i = 0; i < d.size(); ++i) {
+    out[i] = float(d[i]);
+    if (!std::isfinite(out[i]) || std::fabs(out[i]) > kMaxCoordinate)
+      doc.fail(what + ": element " + std::to_string(i / size_t(components)) + " is not finite (" +
+               std::to_string(d[i]) + ")");
+  }
+  return out;
+}
+
+std::vector<uint32_t> readUints(const Document& doc, int accessor, int components, const std::string& what) {
+  const std::vector<double> d = readAccessor(doc, accessor, components, what);
+  std::vector<uint32_t> out(d.size());
+  for (size_t i = 0; i < d.size(); ++i) {
+    if (!(d[i] >= 0 && d[i] <= 4294967295.0 && d[i] == std::floor(d[i])))
+      doc.fail(what + ": element " + std::to_string(i / size_t(components)) + " is not a valid index");
+    out[i] = uint32_t(d[i]);
+  }
+  return out;
+}
+
+}  // namespace mbrt::gltf

@@ -1,0 +1,124 @@
+// Internals of the glTF loader, one idea per file:
+//   gltf_document.cpp  reading the file (tinygltf) and accessors
+//   gltf_animation.cpp clips, sampler interpolation, node transforms over time
+//   gltf_deform.cpp    morph targets and skinning of one primitive
+//   gltf_steps.cpp     choosing the number of steps (automatic mode)
+//   gltf_loader.cpp    turning it all into a SceneDescription
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mbrt/gltf.h"
+#include "mbrt/quaternion.h"
+
+namespace tinygltf {
+class Model;
+}
+
+namespace mbrt::gltf {
+
+// The parsed file. `model` is tinygltf's.
+struct Document {
+  std::string path;
+  std::shared_ptr<tinygltf::Model> model;
+
+  [[noreturn]] void fail(const std::string& what) const;
+};
+
+Document readDocument(const std::string& path);
+
+// An accessor's elements as floats (normalized integers mapped to [0,1] or
+// [-1,1], other integers converted), `components` per element; sparse
+// accessors applied. Throws when the accessor does not fit its buffer, has
+// another number of components, or holds NaN / infinity. `what` names it in
+// errors.
+std::vector<float> readFloats(const Document& doc, int accessor, int components, const std::string& what);
+// Integer elements (indices, joints), `components` per element.
+std::vector<uint32_t> readUints(const Document& doc, int accessor, int components, const std::string& what);
+size_t accessorCount(const Document& doc, int accessor);
+
+// ---- animation ----
+
+struct NodeTRS {
+  Vec3f translation{0, 0, 0};
+  Quaternion rotation;
+  Vec3f scale{1, 1, 1};
+  bool hasMatrix = false;  // a static node given by a matrix
+  Affine3f matrix;
+  std::vector<float> weights;  // morph weights (empty: the mesh's defaults)
+};
+
+class Animator {
+ public:
+  // clip < 0: no animation (the rest pose).
+  Animator(const Document& doc, int clip);
+
+  double clipStart() const { return start_; }
+  double clipEnd() const { return end_; }
+  // True when a channel of the clip moves the node (translation, rotation
+  // or scale).
+  bool animated(int node) const { return animated_[size_t(node)]; }
+  bool weightsAnimated(int node) const { return weightsAnimated_[size_t(node)]; }
+  // True when the node or one of its ancestors is animated.
+  bool movesInWorld(int node) const;
+  int parent(int node) const { return parent_[size_t(node)]; }
+
+  // Local TRS of every node at `seconds`.
+  std::vector<NodeTRS> localAt(double seconds) const;
+  // World matrices of every node from local TRS.
+  std::vector<Affine3f> worldFrom(const std::vector<NodeTRS>& local) const;
+
+ private:
+  struct Channel {
+    int node;
+    int path;  // 0 translation, 1 rotation, 2 scale, 3 weights
+    int interpolation;  // 0 linear, 1 step, 2 cubic
+    std::vector<float> times;
+    std::vector<float> values;
+    int width;  // floats per value
+  };
+  void sample(const Channel& c, double t, float* out) const;
+
+  const Document* doc_;
+  std::vector<Channel> channels_;
+  std::vector<int> parent_;
+  std::vector<bool> animated_, weightsAnimated_;
+  double start_ = 0.0, end_ = 0.0;
+};
+
+// ---- deformation ----
+
+// One primitive's data for deforming it.
+struct PrimitiveData {
+  std::vector<Vec3f> positions;
+  std::vector<std::vector<Vec3f>> targets;  // morph target position deltas
+  std::vector<float> defaultWeights;        // the mesh's weights
+  // Skinning: per vertex, groups of 4 joints and weights (JOINTS_n, WEIGHTS_n).
+  std::vector<uint32_t> joints;
+  std::vector<float> weights;
+  uint32_t influences = 0;  // joints per vertex (4 per set)
+};
+
+// Positions with the morph weights applied (weights may be empty: defaults).
+void morph(const PrimitiveData& p, const std::vector<float>& weights, std::vector<Vec3f>& out);
+// Skins morphed positions in place with joint matrices (world * inverse bind).
+void skin(const PrimitiveData& p, const std::vector<Affine3f>& jointMatrices, const Affine3f& fallback,
+          std::vector<Vec3f>& positions);
+
+// ---- steps ----
+
+// Evaluates points at a normalized time in [0,1].
+using PointsAt = std::function<void(float u, std::vector<Vec3f>& out)>;
+// Fewest vertex steps (1..opt.maxSteps) whose linear interpolation stays
+// within `tolerance` of `eval` at 3 times inside each segment; opt.steps
+// when not automatic.
+uint32_t chooseVertexSteps(const PointsAt& eval, const StepOptions& opt, float tolerance);
+// Same for SRT keys sampled from `keyAt`, checked on `points` (e.g. a box's
+// corners) moved by the interpolated keys against `worldAt`.
+uint32_t chooseSRTSteps(const std::function<SRTKey(float)>& keyAt, const std::function<Affine3f(float)>& worldAt,
+                        const std::vector<Vec3f>& points, const StepOptions& opt, float tolerance);
+
+}  // namespace mbrt::gltf

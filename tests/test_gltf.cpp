@@ -1,0 +1,298 @@
+// glTF loading: a tiny hand-made file (skin, morph targets, rigid and STEP
+// animation) checked against positions computed by hand; the shared real
+// models; bad input.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include <unistd.h>
+
+#include "mbrt/gltf.h"
+#include "mbrt/loaders.h"
+
+namespace mbrt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes a .gltf + .bin pair, one buffer view per accessor.
+class GltfWriter {
+ public:
+  int floats(const std::vector<float>& v, const char* type) { return add(v.data(), v.size() * 4, 5126, v.size() / width(type), type); }
+  int bytes(const std::vector<uint8_t>& v, const char* type) { return add(v.data(), v.size(), 5121, v.size() / width(type), type); }
+
+  // `rest`: the JSON members after "accessors" and "bufferViews".
+  std::string write(const fs::path& dir, const std::string& name, const std::string& rest) {
+    fs::create_directories(dir);
+    std::ofstream(dir / (name + ".bin"), std::ios::binary).write(reinterpret_cast<const char*>(bin_.data()), std::streamsize(bin_.size()));
+    const std::string json = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"" + name + ".bin\",\"byteLength\":" +
+                             std::to_string(bin_.size()) + "}],\"bufferViews\":[" + views_ + "],\"accessors\":[" +
+                             accessors_ + "]," + rest + "}";
+    const fs::path p = dir / (name + ".gltf");
+    std::ofstream(p) << json;
+    return p.string();
+  }
+
+ private:
+  static size_t width(const char* type) {
+    return std::strcmp(type, "SCALAR") == 0 ? 1 : std::strcmp(type, "VEC3") == 0 ? 3 : std::strcmp(type, "VEC4") == 0 ? 4 : 16;
+  }
+  int add(const void* data, size_t size, int componentType, size_t count, const char* type) {
+    while (bin_.size() % 4) bin_.push_back(0);
+    const size_t offset = bin_.size();
+    bin_.insert(bin_.end(), static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + size);
+    if (!views_.empty()) views_ += ",", accessors_ += ",";
+    views_ += "{\"buffer\":0,\"byteOffset\":" + std::to_string(offset) + ",\"byteLength\":" + std::to_string(size) + "}";
+    accessors_ += "{\"bufferView\":" + std::to_string(n_) + ",\"componentType\":" + std::to_string(componentType) +
+                  ",\"count\":" + std::to_string(count) + ",\"type\":\"" + type + "\"}";
+    return n_++;
+  }
+  std::vector<uint8_t> bin_;
+  std::string views_, accessors_;
+  int n_ = 0;
+};
+
+const fs::path kDir = fs::temp_directory_path() / ("mbrt_test_gltf_" + std::to_string(::getpid()));
+
+// Node 0: a triangle skinned to joints 1 and 2; joint 2 (child of 1, rest
+// at x = 1) moves up by 2 over [0,1] (LINEAR).
+// Node 3 (at x = 5): a triangle with one morph target whose weight goes 0 -> 1
+// (CUBICSPLINE, zero tangents: w(s) = 3s^2 - 2s^3).
+// Node 4: a triangle turning 90 degrees about z (LINEAR), translated by a
+// STEP channel: (10,0,0) until 0.75 s, then (10,0,3).
+std::string writeTestFile(const std::string& name, bool nanPosition = false) {
+  GltfWriter w;
+  const float n = nanPosition ? std::nanf("") : 0.0f;
+  const int pos0 = w.floats({0, 0, n, 1, 0, 0, 1, 1, 0}, "VEC3");
+  const int joints = w.bytes({0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0}, "VEC4");
+  const int weights = w.floats({1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0}, "VEC4");
+  const int ibm = w.floats({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,  //
+                            1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -1, 0, 0, 1},
+                           "MAT4");
+  const int pos1 = w.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+  const int target = w.floats({0, 0, 1, 0, 0, 2, 0, 0, 0}, "VEC3");
+  const int times = w.floats({0, 1}, "SCALAR");
+  const int moves = w.floats({1, 0, 0, 1, 2, 0}, "VEC3");
+  const int cubic = w.floats({0, 0, 0, 0, 1, 0}, "SCALAR");  // (in, value, out) per key
+  const float h = std::sqrt(0.5f);
+  const int turns = w.floats({0, 0, 0, 1, 0, 0, h, h}, "VEC4");
+  const int stepTimes = w.floats({0, 0.75f}, "SCALAR");
+  const int stepValues = w.floats({10, 0, 0, 10, 0, 3}, "VEC3");
+  auto s = [](int i) { return std::to_string(i); };
+  const std::string rest =
+      "\"scene\":0,\"scenes\":[{\"nodes\":[0,1,3,4]}],"
+      "\"nodes\":[{\"name\":\"skinned\",\"mesh\":0,\"skin\":0},{\"name\":\"j0\",\"children\":[2]},"
+      "{\"name\":\"j1\",\"translation\":[1,0,0]},{\"name\":\"morphed\",\"mesh\":1,\"translation\":[5,0,0]},"
+      "{\"name\":\"spinner\",\"mesh\":2}],"
+      "\"skins\":[{\"joints\":[1,2],\"inverseBindMatrices\":" + s(ibm) + "}],"
+      "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.2,0.4,0.6,1]}}],"
+      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":" + s(pos0) + ",\"JOINTS_0\":" + s(joints) +
+      ",\"WEIGHTS_0\":" + s(weights) + "}}]},"
+      "{\"weights\":[0],\"primitives\":[{\"attributes\":{\"POSITION\":" + s(pos1) + "},\"material\":0,\"targets\":[{\"POSITION\":" +
+      s(target) + "}]}]},"
+      "{\"primitives\":[{\"attributes\":{\"POSITION\":" + s(pos1) + "}}]}],"
+      "\"animations\":[{\"name\":\"move\",\"samplers\":["
+      "{\"input\":" + s(times) + ",\"output\":" + s(moves) + "},"
+      "{\"input\":" + s(times) + ",\"output\":" + s(cubic) + ",\"interpolation\":\"CUBICSPLINE\"},"
+      "{\"input\":" + s(times) + ",\"output\":" + s(turns) + "},"
+      "{\"input\":" + s(stepTimes) + ",\"output\":" + s(stepValues) + ",\"interpolation\":\"STEP\"}],"
+      "\"channels\":[{\"sampler\":0,\"target\":{\"node\":2,\"path\":\"translation\"}},"
+      "{\"sampler\":1,\"target\":{\"node\":3,\"path\":\"weights\"}},"
+      "{\"sampler\":2,\"target\":{\"node\":4,\"path\":\"rotation\"}},"
+      "{\"sampler\":3,\"target\":{\"node\":4,\"path\":\"translation\"}}]},"
+      "{\"name\":\"other\",\"samplers\":[{\"input\":" + s(times) + ",\"output\":" + s(moves) + "}],"
+      "\"channels\":[{\"sampler\":0,\"target\":{\"node\":2,\"path\":\"translation\"}}]}]";
+  return w.write(kDir, name, rest);
+}
+
+void expectNear(Vec3f a, Vec3f b, const std::string& what) {
+  EXPECT_NEAR(a.x, b.x, 1e-5f) << what;
+  EXPECT_NEAR(a.y, b.y, 1e-5f) << what;
+  EXPECT_NEAR(a.z, b.z, 1e-5f) << what;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Gltf, HandMadeFileGivesHandComputedPositions) {
+  const std::string path = writeTestFile("tiny");
+  GltfOptions o;
+  o.shutterOpen = 0.0;
+  o.shutterClose = 1.0;
+  o.steps.steps = 3;  // keys at 0, 0.5, 1 s
+  const SceneDescription d = loadGltf(path, o);
+  const Scene& s = *d.scene;
+  ASSERT_EQ(s.numGeometries(), 3u);
+  s.validate();
+  // Skinned: v0 on joint 0 (still), v1 on joint 1 (moves up 2t), v2 half on each.
+  const Geometry& g0 = s.geometry(0);
+  ASSERT_EQ(g0.type(), GeometryType::Triangles);
+  ASSERT_EQ(g0.numSteps(), 3u);
+  for (uint32_t k = 0; k < 3; ++k) {
+    const float t = 0.5f * float(k);
+    expectNear(g0.vertexAtStep(k, 0), {0, 0, 0}, "skin v0");
+    expectNear(g0.vertexAtStep(k, 1), {1, 2 * t, 0}, "skin v1");
+    expectNear(g0.vertexAtStep(k, 2), {1, 1 + t, 0}, "skin v2");
+  }
+  // Morphed: weight w = 3t^2 - 2t^3 (0, 0.5, 1).
+  const Geometry& g1 = s.geometry(1);
+  ASSERT_EQ(g1.numSteps(), 3u);
+  const float w[3] = {0.0f, 0.5f, 1.0f};
+  for (uint32_t k = 0; k < 3; ++k) {
+    expectNear(g1.vertexAtStep(k, 0), {5, 0, w[k]}, "morph v0");
+    expectNear(g1.vertexAtStep(k, 1), {6, 0, 2 * w[k]}, "morph v1");
+    expectNear(g1.vertexAtStep(k, 2), {5, 1, 0}, "morph v2");
+  }
+  EXPECT_NEAR(d.material(1).diffuse.y, 0.4f, 1e-6f);
+  // Rigid: an SRT instance turning about z, STEP translation.
+  const Geometry& g2 = s.geometry(2);
+  ASSERT_EQ(g2.type(), GeometryType::Instance);
+  ASSERT_TRUE(g2.hasSRTKeys());
+  ASSERT_EQ(g2.numSteps(), 3u);
+  expectNear(g2.transformAt(0.0f).xfmPoint({1, 0, 0}), {11, 0, 0}, "rigid t=0");
+  const float c = std::sqrt(0.5f);
+  expectNear(g2.transformAt(0.5f).xfmPoint({1, 0, 0}), {10 + c, c, 0}, "rigid t=0.5");
+  expectNear(g2.transformAt(1.0f).xfmPoint({1, 0, 0}), {10, 1, 3}, "rigid t=1");
+  // Between keys the slerp keeps the turn: at t=0.25, 22.5 degrees.
+  expectNear(g2.transformAt(0.25f).xfmPoint({1, 0, 0}), {10 + std::cos(0.3926991f), std::sin(0.3926991f), 0}, "rigid t=0.25");
+}
+
+TEST(Gltf, AutomaticStepsDifferPerMesh) {
+  const std::string path = writeTestFile("auto");
+  GltfOptions o;
+  o.shutterOpen = 0.0;
+  o.shutterClose = 1.0;
+  LoadReport report;
+  const SceneDescription d = loadGltf(path, o, &report);
+  EXPECT_EQ(d.scene->geometry(0).numSteps(), 2u);  // the skin moves linearly
+  EXPECT_GT(d.scene->geometry(1).numSteps(), 3u);  // the cubic weight curve needs more
+  EXPECT_GT(d.scene->geometry(2).numSteps(), 2u);  // the STEP jump needs keys around it
+  EXPECT_FALSE(report.lines.empty());
+}
+
+TEST(Gltf, ShutterAndClips) {
+  const std::string path = writeTestFile("shutter");
+  // Default: the first clip from its start, 1/48 s.
+  const SceneDescription d = loadGltf(path);
+  EXPECT_DOUBLE_EQ(d.shutterOpen, 0.0);
+  EXPECT_NEAR(d.shutterClose, 1.0 / 48.0, 1e-12);
+  // A zero-length shutter: a sharp frame, every geometry S = 1.
+  GltfOptions sharp;
+  sharp.shutterOpen = sharp.shutterClose = 0.5;
+  const SceneDescription f = loadGltf(path, sharp);
+  for (uint32_t g = 0; g < f.scene->numGeometries(); ++g) EXPECT_EQ(f.scene->geometry(g).numSteps(), 1u);
+  expectNear(f.scene->geometry(0).vertexAtStep(0, 2), {1, 1.5f, 0}, "sharp skin v2");
+  // Clip by name and by index; unknown clip.
+  GltfOptions byName;
+  byName.clip = "other";
+  EXPECT_NO_THROW(loadGltf(path, byName));
+  byName.clip = "1";
+  EXPECT_NO_THROW(loadGltf(path, byName));
+  byName.clip = "walk";
+  const std::string e = errorOf([&] { loadGltf(path, byName); });
+  EXPECT_NE(e.find("no animation clip 'walk'"), std::string::npos) << e;
+  EXPECT_NE(e.find("'move'"), std::string::npos) << e;
+  // A shutter outside the clip.
+  GltfOptions outside;
+  outside.shutterOpen = 0.5;
+  outside.shutterClose = 2.0;
+  const std::string e2 = errorOf([&] { loadGltf(path, outside); });
+  EXPECT_NE(e2.find("outside clip"), std::string::npos) << e2;
+  EXPECT_NE(e2.find(path), std::string::npos) << e2;
+}
+
+TEST(Gltf, BadInputGivesClearErrors) {
+  fs::create_directories(kDir);
+  const std::string missing = (kDir / "missing.glb").string();
+  EXPECT_NE(errorOf([&] { loadGltf(missing); }).find("cannot open '" + missing), std::string::npos);
+  const std::string garbage = (kDir / "garbage.gltf").string();
+  std::ofstream(garbage) << "{ this is not json";
+  std::string e = errorOf([&] { loadGltf(garbage); });
+  EXPECT_NE(e.find(garbage + ": not a valid glTF file"), std::string::npos) << e;
+  // A truncated .glb: the header says more than there is.
+  const std::string truncated = (kDir / "truncated.glb").string();
+  {
+    std::ofstream out(truncated, std::ios::binary);
+    const uint32_t header[5] = {0x46546C67u, 2u, 4000u, 2000u, 0x4E4F534Au};
+    out.write(reinterpret_cast<const char*>(header), sizeof header);
+    out << "{\"asset\":{\"version\":\"2.0\"}";
+  }
+  e = errorOf([&] { loadGltf(truncated); });
+  EXPECT_NE(e.find(truncated + ": not a valid glTF file"), std::string::npos) << e;
+  // A truncated buffer: the .bin is shorter than the accessors need.
+  const std::string good = writeTestFile("cut");
+  fs::resize_file(kDir / "cut.bin", 40);
+  e = errorOf([&] { loadGltf(good); });
+  EXPECT_NE(e.find(good), std::string::npos) << e;
+  // NaN in the positions.
+  const std::string nan = writeTestFile("nan", true);
+  e = errorOf([&] { loadGltf(nan); });
+  EXPECT_NE(e.find(nan + ": mesh 0 primitive 0 POSITION: element 0 is not finite"), std::string::npos) << e;
+  // Through the general entry point too.
+  e = errorOf([&] { loadSceneSpec(nan); });
+  EXPECT_NE(e.find("not finite"), std::string::npos) << e;
+}
+
+// The shared real models (skipped without ../shared).
+TEST(Gltf, SharedModelsLoadWithPlausibleBounds) {
+  const fs::path dir = fs::path(MBRT_SHARED_DIR) / "scenes";
+  if (!fs::exists(dir)) GTEST_SKIP() << "no " << dir << " (the shared scenes)";
+  const char* files[] = {"cesium_man/CesiumMan.glb", "fox/Fox.glb", "rigged_figure/RiggedFigure.glb",
+                         "rigged_simple/RiggedSimple.glb", "animated_morph_sphere/AnimatedMorphSphere.glb"};
+  for (const char* f : files) {
+    const std::string path = (dir / f).string();
+    if (!fs::exists(path)) {
+      ADD_FAILURE() << "missing " << path;
+      continue;
+    }
+    LoadReport report;
+    const auto t0 = std::chrono::steady_clock::now();
+    const SceneDescription d = loadGltf(path, {}, &report);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    d.scene->validate();
+    Box3f box;
+    uint32_t most = 0;
+    for (uint32_t g = 0; g < d.scene->numGeometries(); ++g) {
+      const Geometry& geom = d.scene->geometry(g);
+      most = std::max(most, geom.numSteps());
+      if (geom.type() != GeometryType::Triangles) continue;
+      for (uint32_t k = 0; k < geom.numSteps(); ++k)
+        for (size_t i = 0; i < geom.vertices(k).count; ++i) box.extend(geom.vertexAtStep(k, uint32_t(i)));
+    }
+    ASSERT_FALSE(box.empty()) << f;
+    EXPECT_TRUE(isFinite(box.lower) && isFinite(box.upper)) << f;
+    const float size = maxComponent(box.size());
+    EXPECT_GT(size, 1e-3f) << f;
+    EXPECT_LT(size, 1e4f) << f;
+    std::string lines;
+    for (const auto& l : report.lines) lines += "\n  " + l;
+    std::printf("[ info ] %s: %.1f ms, %u geometries, up to %u steps, size %.3g%s\n", f, ms,
+                d.scene->numGeometries(), most, size, lines.c_str());
+  }
+  // Fox has 3 clips: each loads, by index and by name.
+  const std::string fox = (dir / "fox/Fox.glb").string();
+  if (fs::exists(fox)) {
+    for (const char* clip : {"0", "1", "2"}) {
+      GltfOptions o;
+      o.clip = clip;
+      EXPECT_NO_THROW(loadGltf(fox, o)) << clip;
+    }
+    GltfOptions o;
+    o.clip = "Run";
+    EXPECT_NO_THROW(loadGltf(fox, o));
+  }
+}
+
+}  // namespace
+}  // namespace mbrt
