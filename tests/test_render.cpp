@@ -274,6 +274,21 @@ TEST(Render, MovingCameraFollowsItsKeys) {
   EXPECT_NEAR(camera.generate(4, 4, 0.5f, 0.5f, 0.999f).org.x, 1.998f, 1e-4f);
 }
 
+TEST(Render, SceneWithoutCameraIsFramed) {
+  SceneDescription mesh = suiteScene("translate", 0.005);
+  mesh.camera.keys.clear();
+  auto accel = test::buildKind(*mesh.scene, AccelKind::BvhInterp);
+  const RenderResult r = render(mesh, *accel, smallOptions(IntegratorKind::Normals, 32, 32, 1));
+  // The scene sits in the middle of the picture, with background around it.
+  int hits = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) hits += r.image.at(x, y).r + r.image.at(x, y).g + r.image.at(x, y).b > 0.0f;
+  EXPECT_GT(hits, 32);
+  EXPECT_LT(hits, 32 * 32 - 32);
+  const Rgb& centre = r.image.at(16, 16);
+  EXPECT_GT(centre.r + centre.g + centre.b, 0.0f);
+}
+
 TEST(Render, CancelledRenderKeepsItsSize) {
   const SceneDescription demo = suiteScene("demo", 0.25);
   auto accel = test::buildKind(*demo.scene, AccelKind::BvhInterp);
