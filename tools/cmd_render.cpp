@@ -97,6 +97,13 @@ void run(RenderArgs& args) {
   if (args.shutter.size() != 2 || !(args.shutter[0] >= 0.0f && args.shutter[1] <= 1.0f && args.shutter[0] <= args.shutter[1]))
     throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
 
+  if (!args.compare.empty()) {
+    const auto kind = parseAccelKind(args.compare);
+    const auto kinds = availableAccelKinds();
+    if (!kind || std::find(kinds.begin(), kinds.end(), *kind) == kinds.end())
+      throw UsageError("unknown accel kind '" + args.compare + "' for --compare (available: " + accelKindList() + ")");
+  }
+
   RenderOptions opt = args.options;
   opt.integrator = *integrator;
   opt.seed = args.scene.seed;
@@ -121,7 +128,7 @@ void run(RenderArgs& args) {
   std::vector<RenderResult> results;
   InterruptGuard guard;
   for (const AccelArgs& kindArgs : kinds) {
-    if (gInterrupted.load()) break;
+    if (gInterrupted.load() && !results.empty()) break;  // interrupted: write what there is
     std::unique_ptr<Accel> accel;
     arena->execute([&] { accel = buildAccel(*loaded.scene, kindArgs, bestAccelKind()); });
     const AccelStats built = accel->stats();
