@@ -274,6 +274,85 @@ TEST(Render, MovingCameraFollowsItsKeys) {
   EXPECT_NEAR(camera.generate(4, 4, 0.5f, 0.5f, 0.999f).org.x, 1.998f, 1e-4f);
 }
 
+// A floor seen from above under a uniform sky and a light from straight
+// above: every sample sees albedo * (sky + irradiance / pi), exactly.
+TEST(Render, IntegratorsGiveTheExpectedRadianceOnAFloor) {
+  auto scene = std::make_shared<Scene>();
+  scene->addTriangleMesh({{0, 1, 2}, {0, 2, 3}},
+                         std::vector<std::vector<Vec3f>>{{{-100, 0, -100}, {-100, 0, 100}, {100, 0, 100}, {100, 0, -100}}});
+  SceneDescription d;
+  d.name = "floor";
+  d.scene = scene;
+  d.camera.keys = {CameraSpec{{0, 5, 0}, {0, 0, 0}, {0, 0, -1}, 40.0f}};
+  d.materials = {Material{{0.5f, 0.25f, 0.8f}}};
+  d.skyColor = {0.4f, 0.6f, 1.0f};
+  d.lights = {DirectionalLight{{0, -2, 0}, {3.0f, 3.0f, 3.0f}}};
+  auto accel = test::buildKind(*scene, AccelKind::BvhInterp);
+  RenderOptions o = smallOptions(IntegratorKind::Path, 8, 8, 4);
+  const float invPi = 1.0f / 3.14159265f;
+  const RenderResult path = render(d, *accel, o);
+  o.integrator = IntegratorKind::Ao;
+  const RenderResult ao = render(d, *accel, o);
+  o.integrator = IntegratorKind::Normals;
+  const RenderResult normals = render(d, *accel, o);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const Rgb p = path.image.at(x, y);
+      EXPECT_NEAR(p.r, 0.5f * (0.4f + 3.0f * invPi), 1e-4f);
+      EXPECT_NEAR(p.g, 0.25f * (0.6f + 3.0f * invPi), 1e-4f);
+      EXPECT_NEAR(p.b, 0.8f * (1.0f + 3.0f * invPi), 1e-4f);
+      const Rgb a = ao.image.at(x, y);
+      EXPECT_NEAR(a.r, 0.5f, 1e-6f);
+      EXPECT_NEAR(a.g, 0.25f, 1e-6f);
+      EXPECT_NEAR(a.b, 0.8f, 1e-6f);
+      const Rgb n = normals.image.at(x, y);  // (0,1,0) -> (0.5, 1, 0.5)
+      EXPECT_NEAR(n.r, 0.5f, 1e-5f);
+      EXPECT_NEAR(n.g, 1.0f, 1e-5f);
+      EXPECT_NEAR(n.b, 0.5f, 1e-5f);
+    }
+  // Per sample: path = camera ray + shadow ray + escaping bounce; ao = 1 + 2.
+  EXPECT_EQ(path.rays, uint64_t(8 * 8 * 4 * 3));
+  EXPECT_EQ(ao.rays, uint64_t(8 * 8 * 4 * 3));
+}
+
+// A wall whose edge moves from x = 0 to x = 8 over the shutter: a pixel
+// looking at x is covered for the part 1 - x/8 of the shutter.
+TEST(Render, MotionBlurAveragesOverTheShutter) {
+  auto scene = std::make_shared<Scene>();
+  auto wallAt = [](float edge) {
+    return std::vector<Vec3f>{{-30 + edge, -10, -4}, {edge, -10, -4}, {edge, 10, -4}, {-30 + edge, 10, -4}};
+  };
+  scene->addTriangleMesh({{0, 1, 2}, {0, 2, 3}}, std::vector<std::vector<Vec3f>>{wallAt(0.0f), wallAt(8.0f)});
+  SceneDescription d;
+  d.name = "moving wall";
+  d.scene = scene;
+  d.camera.keys = {CameraSpec{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 40.0f}};
+  auto accel = test::buildKind(*scene, AccelKind::BvhInterp);
+  RenderOptions o = smallOptions(IntegratorKind::Normals, 64, 4, 32);
+  const RenderCamera camera(d, o.width, o.height, 0.0f, 1.0f);
+  auto lookAt = [&](int x) {  // x on the wall's plane seen by the pixel's centre
+    const Ray centre = camera.generate(float(x) + 0.5f, 2.0f, 0.5f, 0.5f, 0.5f);
+    return centre.dir.x * (-4.0f / centre.dir.z);
+  };
+  const RenderResult blurred = render(d, *accel, o);
+  int partial = 0;
+  for (int x = 0; x < o.width; ++x) {
+    const float expected = 1.0f - std::clamp(lookAt(x) / 8.0f, 0.0f, 1.0f);
+    const float coverage = blurred.image.at(x, 2).b;  // wall normal (0,0,1) -> blue 1, background 0
+    EXPECT_NEAR(coverage, expected, 0.1f) << "pixel " << x << " looks at x = " << lookAt(x);
+    partial += coverage > 0.1f && coverage < 0.9f;
+  }
+  EXPECT_GE(partial, 8);
+  // A zero-length shutter gives a sharp picture at that instant (edge at x = 4).
+  o.shutterOpen = o.shutterClose = 0.5f;
+  const RenderResult sharp = render(d, *accel, o);
+  for (int x = 0; x < o.width; ++x) {
+    const float b = sharp.image.at(x, 2).b;
+    if (std::abs(lookAt(x) - 4.0f) < 0.5f) continue;  // the pixel on the edge
+    EXPECT_EQ(b, lookAt(x) < 4.0f ? 1.0f : 0.0f) << "pixel " << x;
+  }
+}
+
 TEST(Render, SceneWithoutCameraIsFramed) {
   SceneDescription mesh = suiteScene("translate", 0.005);
   mesh.camera.keys.clear();
