@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
-  libtbb-dev libgtest-dev libcli11-dev libpng-dev libembree-dev
+  libtbb-dev libgtest-dev libcli11-dev libpng-dev libembree-dev libopenexr-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   git ca-certificates
 )

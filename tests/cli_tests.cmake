@@ -71,3 +71,36 @@ set_tests_properties(cli.stats_obj_sequence PROPERTIES
 add_test(NAME cli.error_bad_steps COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --steps zero)
 set_tests_properties(cli.error_bad_steps PROPERTIES
   PASS_REGULAR_EXPRESSION "--steps must be a number")
+# `mbrt render`: the demo by default, heat maps, EXR, errors.
+add_test(NAME cli.render_default_demo
+         COMMAND mbrt_cli render --size 0.25 --width 32 --height 24 --spp 1 -o ${MBRT_CLI_OUT}/demo.png)
+set_tests_properties(cli.render_default_demo PROPERTIES
+  PASS_REGULAR_EXPRESSION "scene +demo.*render +[a-z-]+: 32x24, 1 spp.*Mrays/s.*wrote +.*demo.png")
+add_test(NAME cli.render_positional_heat
+         COMMAND mbrt_cli render demo --size 0.25 --accel bvh-segments --integrator heat-steps
+                 --width 32 --height 24 --spp 1 --threads 1 -o ${MBRT_CLI_OUT}/heat.png)
+set_tests_properties(cli.render_positional_heat PROPERTIES
+  PASS_REGULAR_EXPRESSION "accel +bvh-segments.*heat +bvh-segments: nodes visited per primary ray: mean [0-9.]+.*colour bar 0 \\.\\.")
+add_test(NAME cli.render_compare
+         COMMAND mbrt_cli render hairball --size 0.002 --accel bvh-interp --compare bvh-segments
+                 --integrator heat-isects --width 24 --height 24 --spp 1 -o ${MBRT_CLI_OUT}/compare.png)
+set_tests_properties(cli.render_compare PROPERTIES
+  PASS_REGULAR_EXPRESSION "heat +bvh-interp: intersection tests.*heat +bvh-segments: intersection tests.*wrote")
+if(MBRT_WITH_OPENEXR)
+  add_test(NAME cli.render_exr
+           COMMAND mbrt_cli render --scene demo --size 0.25 --integrator ao --width 16 --height 12 --spp 1
+                   -o ${MBRT_CLI_OUT}/demo.exr)
+  set_tests_properties(cli.render_exr PROPERTIES PASS_REGULAR_EXPRESSION "wrote +.*demo.exr")
+else()
+  add_test(NAME cli.render_exr
+           COMMAND mbrt_cli render --scene demo --size 0.25 --width 16 --height 12 -o ${MBRT_CLI_OUT}/demo.exr)
+  set_tests_properties(cli.render_exr PROPERTIES PASS_REGULAR_EXPRESSION "EXR support is not built")
+endif()
+add_test(NAME cli.error_render_format COMMAND mbrt_cli render --scene demo -o ${MBRT_CLI_OUT}/demo.jpg)
+set_tests_properties(cli.error_render_format PROPERTIES
+  PASS_REGULAR_EXPRESSION "mbrt: error: cannot tell the image format of '.*demo.jpg': use a .png or .exr")
+add_test(NAME cli.error_render_integrator COMMAND mbrt_cli render --scene demo --integrator nope)
+set_tests_properties(cli.error_render_integrator PROPERTIES
+  PASS_REGULAR_EXPRESSION "mbrt: error: unknown integrator 'nope' \\(available: normals, ao, path")
+add_test(NAME cli.error_render_shutter COMMAND mbrt_cli render --scene demo --shutter 0.5,0.2)
+set_tests_properties(cli.error_render_shutter PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*shutter")

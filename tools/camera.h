@@ -1,5 +1,5 @@
-// Pinhole camera rays and a small counter-based random generator, shared by
-// `mbrt trace --generate` and `mbrt render`.
+// Pinhole camera rays and a small counter-based random generator for
+// `mbrt trace --generate` (the renderer has its own: mbrt/render.h).
 #pragma once
 
 #include <cmath>

@@ -1,112 +1,193 @@
-// `mbrt render`: a minimal primary-ray renderer with motion blur (every
-// sample at its own time). The real renderer comes later; this one shows
-// that a scene and a structure work.
-#include <tbb/parallel_for.h>
+// `mbrt render`: motion-blurred pictures with any structure (mbrt/render.h):
+// normals, ambient occlusion, diffuse path tracing and heat maps of the
+// traversal work, PNG or EXR by the output's extension.
+#include <tbb/task_arena.h>
+#include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
+#include <atomic>
+#include <cctype>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "camera.h"
 #include "commands.h"
 #include "mbrt/image.h"
+#include "mbrt/render.h"
+#include "progress_bar.h"
 #include "scene_loading.h"
 
 namespace mbrt::tools {
 namespace {
 
 struct RenderArgs {
+  std::string positionalScene;
   SceneArgs scene;
   AccelArgs accel;
   std::string out = "mbrt.png";
-  int width = 640;
-  int height = 360;
-  int spp = 16;
+  std::string integrator = "path";
+  std::vector<float> shutter{0.0f, 1.0f};
+  RenderOptions options;
+  int threads = 0;
+  float aperture = -1.0f;  // < 0: the scene's camera
+  float focus = -1.0f;
+  bool progress = false;
+  float exposure = -1.0f;  // EV of the PNG's display transform
+  std::string compare;  // a second structure, rendered beside the first
 };
 
-Vec3f baseColor(uint32_t geomID, uint32_t instID) {
-  Rng rng(0x5eed, geomID, instID);
-  return {0.35f + 0.55f * rng.uniform(), 0.35f + 0.55f * rng.uniform(), 0.35f + 0.55f * rng.uniform()};
+std::atomic<bool> gInterrupted{false};
+
+extern "C" void onInterrupt(int) {
+  gInterrupted.store(true);
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
 }
 
-Vec3f sky(Vec3f dir) {
-  const float t = std::clamp(0.5f * (dir.y + 1.0f), 0.0f, 1.0f);
-  return lerp(Vec3f(0.9f, 0.9f, 0.88f), Vec3f(0.35f, 0.55f, 0.95f), t);
+// Installs the Ctrl-C handler for the lifetime of a render.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    gInterrupted.store(false);
+    previous_ = std::signal(SIGINT, onInterrupt);
+  }
+  ~InterruptGuard() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_); }
+
+ private:
+  void (*previous_)(int) = SIG_DFL;
+};
+
+enum class OutFormat { Png, Exr };
+
+OutFormat formatOf(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".png") return OutFormat::Png;
+  if (ext == ".exr") return OutFormat::Exr;
+  throw UsageError("cannot tell the image format of '" + path + "': use a .png or .exr file name");
 }
 
-Vec3f shade(const Ray& ray, const Hit& hit) {
-  if (!hit.valid()) return sky(ray.dir);
-  Vec3f n = Vec3f(0, 1, 0);
-  if (dot(hit.Ng, hit.Ng) > 0.0f) n = normalize(hit.Ng);
-  if (dot(n, ray.dir) > 0.0f) n = -n;  // face the viewer
-  const Vec3f light = normalize(Vec3f(0.4f, 1.0f, 0.5f));
-  const float headlight = std::max(0.0f, -dot(n, ray.dir));
-  const float key = std::max(0.0f, dot(n, light));
-  const Vec3f base = baseColor(hit.instID != kInvalidId ? hit.instID : hit.geomID, 0);
-  return base * (0.1f + 0.45f * headlight + 0.55f * key);
+// The best structure this build has: stbvh once it exists, else bvh-interp.
+AccelKind bestAccelKind() {
+  const auto kinds = availableAccelKinds();
+  for (AccelKind k : {AccelKind::Stbvh, AccelKind::BvhInterp})
+    if (std::find(kinds.begin(), kinds.end(), k) != kinds.end()) return k;
+  return AccelKind::Brute;
 }
 
-void run(const RenderArgs& args) {
-  // Fail before rendering rather than after.
+void run(RenderArgs& args) {
+  // Check everything cheap before loading and rendering.
+  if (!args.positionalScene.empty()) {
+    if (!args.scene.scene.empty() && args.scene.scene != args.positionalScene)
+      throw UsageError("two scenes given: '" + args.positionalScene + "' and --scene '" + args.scene.scene + "'");
+    args.scene.scene = args.positionalScene;
+  }
+  if (args.scene.scene.empty()) args.scene.scene = "demo";
+  const OutFormat format = formatOf(args.out);
+  if (format == OutFormat::Exr && !exrSupported()) writeExr(args.out, Image());  // throws the explanation
   const std::filesystem::path parent = std::filesystem::path(args.out).parent_path();
   std::error_code ec;
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
     throw Error("cannot write '" + args.out + "': no directory '" + parent.string() + "'");
-  const LoadedScene loaded = loadScene(args.scene);
-  auto accel = buildAccel(*loaded.scene, args.accel, defaultAccelKind());
-  const AccelStats built = accel->stats();
-  std::printf("scene   %s\naccel   %s, built in %.3f s\n", describeScene(loaded).c_str(), built.kind.c_str(),
-              built.buildSeconds);
+  const auto integrator = parseIntegratorKind(args.integrator);
+  if (!integrator)
+    throw UsageError("unknown integrator '" + args.integrator + "' (available: " + integratorKindList() + ")");
+  if (args.shutter.size() != 2 || !(args.shutter[0] >= 0.0f && args.shutter[1] <= 1.0f && args.shutter[0] <= args.shutter[1]))
+    throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
 
-  const int w = args.width, h = args.height, spp = args.spp;
-  Image image(w, h);
-  const PinholeCamera camera(loaded.camera.keys.front(), float(w) / float(h));
-  const size_t raysPerRow = size_t(w) * size_t(spp);
-  const int rowsPerChunk = int(std::max<size_t>(1, (size_t(1) << 18) / raysPerRow));
-  std::vector<Ray> rays(raysPerRow * size_t(std::min(rowsPerChunk, h)));
-  std::vector<Hit> hits(rays.size());
-
-  double traceSeconds = 0.0;
-  const auto start = std::chrono::steady_clock::now();
-  for (int y0 = 0; y0 < h; y0 += rowsPerChunk) {
-    const int y1 = std::min(h, y0 + rowsPerChunk);
-    const size_t n = size_t(y1 - y0) * raysPerRow;
-    // Per pixel: jittered positions, times stratified over [0,1].
-    tbb::parallel_for(y0, y1, [&](int y) {
-      for (int x = 0; x < w; ++x) {
-        Rng rng(args.scene.seed, uint64_t(y) * uint64_t(w) + uint64_t(x));
-        Ray* out = &rays[(size_t(y - y0) * size_t(w) + size_t(x)) * size_t(spp)];
-        for (int s = 0; s < spp; ++s) {
-          const float px = (float(x) + rng.uniform()) / float(w);
-          const float py = (float(y) + rng.uniform()) / float(h);
-          const float time = std::min(1.0f, (float(s) + rng.uniform()) / float(spp));
-          out[s] = camera.ray(px, py, time);
-        }
-      }
-    });
-    const auto t0 = std::chrono::steady_clock::now();
-    accel->intersect(std::span<const Ray>(rays.data(), n), std::span<Hit>(hits.data(), n));
-    traceSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    tbb::parallel_for(y0, y1, [&](int y) {
-      for (int x = 0; x < w; ++x) {
-        const size_t first = (size_t(y - y0) * size_t(w) + size_t(x)) * size_t(spp);
-        Vec3f sum;
-        for (int s = 0; s < spp; ++s) sum += shade(rays[first + size_t(s)], hits[first + size_t(s)]);
-        sum *= 1.0f / float(spp);
-        image.at(x, y) = {sum.x, sum.y, sum.z};
-      }
-    });
+  if (!args.compare.empty()) {
+    const auto kind = parseAccelKind(args.compare);
+    const auto kinds = availableAccelKinds();
+    if (!kind || std::find(kinds.begin(), kinds.end(), *kind) == kinds.end())
+      throw UsageError("unknown accel kind '" + args.compare + "' for --compare (available: " + accelKindList() + ")");
   }
-  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  writePng(args.out, image);
 
-  const double numRays = double(w) * double(h) * double(spp);
-  std::printf("render  %dx%d, %d spp: %.0f rays in %.3f s (tracing %.3f s, %.3f Mrays/s)\n", w, h, spp, numRays,
-              total, traceSeconds, traceSeconds > 0 ? numRays / traceSeconds * 1e-6 : 0.0);
+  RenderOptions opt = args.options;
+  opt.integrator = *integrator;
+  opt.seed = args.scene.seed;
+  opt.shutterOpen = args.shutter[0];
+  opt.shutterClose = args.shutter[1];
+
+  std::unique_ptr<tbb::task_arena> arena =
+      args.threads > 0 ? std::make_unique<tbb::task_arena>(args.threads) : std::make_unique<tbb::task_arena>();
+  const int threads = arena->max_concurrency();
+
+  LoadedScene loaded = loadScene(args.scene);
+  if (args.aperture >= 0.0f) loaded.camera.apertureRadius = args.aperture;
+  if (args.focus >= 0.0f) loaded.camera.focusDistance = args.focus;
+  std::printf("scene   %s\n", describeScene(loaded).c_str());
+
+  // One picture per structure: --accel, and --compare when given.
+  std::vector<AccelArgs> kinds{args.accel};
+  if (!args.compare.empty()) {
+    kinds.push_back(args.accel);
+    kinds.back().accel = args.compare;
+  }
+  std::vector<RenderResult> results;
+  InterruptGuard guard;
+  for (const AccelArgs& kindArgs : kinds) {
+    if (gInterrupted.load() && !results.empty()) break;  // interrupted: write what there is
+    std::unique_ptr<Accel> accel;
+    arena->execute([&] { accel = buildAccel(*loaded.scene, kindArgs, bestAccelKind()); });
+    const AccelStats built = accel->stats();
+    std::printf("accel   %s, built in %.3f s\n", built.kind.c_str(), built.buildSeconds);
+    if (isHeatMap(opt.integrator) && built.kind == "embree")
+      std::printf("note    embree exposes no traversal counters: the heat map is empty\n");
+    std::fflush(stdout);
+
+    ProgressBar bar(args.progress || isatty(STDERR_FILENO));
+    RenderResult result;
+    arena->execute([&] {
+      result = render(loaded, *accel, opt, &gInterrupted, [&](const RenderProgress& p) {
+        bar.update(double(p.tilesDone) / double(p.tilesTotal), p.rays, p.seconds);
+      });
+    });
+    bar.finish();
+    std::printf("render  %s: %dx%d, %d spp, %s, shutter [%g, %g], %d thread%s: %llu rays in %.3f s (%.3f Mrays/s)\n",
+                built.kind.c_str(), opt.width, opt.height, opt.spp, std::string(toString(opt.integrator)).c_str(),
+                opt.shutterOpen, opt.shutterClose, threads, threads == 1 ? "" : "s",
+                static_cast<unsigned long long>(result.rays), result.seconds, result.raysPerSecond() * 1e-6);
+    if (isHeatMap(opt.integrator))
+      std::printf("heat    %s: %s per primary ray: mean %.2f, max %.1f\n", built.kind.c_str(),
+                  opt.integrator == IntegratorKind::HeatSteps ? "nodes visited" : "intersection tests",
+                  result.heatMean, result.heatMaxValue);
+    if (!result.complete)
+      std::fprintf(stderr, "mbrt: interrupted: %zu of %zu tiles rendered; the rest is black\n", result.tilesDone,
+                   result.tilesTotal);
+    results.push_back(std::move(result));
+  }
+
+  Image picture = results.front().image;
+  if (isHeatMap(opt.integrator)) {
+    // One scale for every picture: the largest of their own.
+    float scale = opt.heatMax;
+    if (!(scale > 0.0f))
+      for (const RenderResult& r : results) scale = std::max(scale, r.heatScale);
+    for (RenderResult& r : results) r.image = heatImage(r.heat, opt.width, opt.height, scale, opt.colorBar);
+    picture = results.front().image;
+    std::printf("heat    colour bar 0 .. %.1f%s\n", scale,
+                opt.heatMax > 0.0f ? " (--heat-max)" : " (99th percentile)");
+  }
+  if (results.size() == 2) {
+    // Side by side, --accel on the left, a thin white gap between.
+    const Image &a = results[0].image, &b = results[1].image;
+    constexpr int kGap = 4;
+    picture = Image(a.width() + kGap + b.width(), std::max(a.height(), b.height()));
+    for (int y = 0; y < picture.height(); ++y)
+      for (int x = 0; x < picture.width(); ++x) {
+        const int xb = x - a.width() - kGap;
+        picture.at(x, y) = x < a.width() ? (y < a.height() ? a.at(x, y) : Rgb{})
+                           : xb < 0      ? Rgb{1.0f, 1.0f, 1.0f}
+                                         : (y < b.height() ? b.at(xb, y) : Rgb{});
+      }
+  }
+
+  if (format == OutFormat::Exr)
+    writeExr(args.out, picture);
+  else
+    writePng(args.out, tonemap(picture, opt.integrator, args.exposure));
   std::printf("wrote   %s\n", args.out.c_str());
 }
 
@@ -114,17 +195,56 @@ void run(const RenderArgs& args) {
 
 void registerRenderCommand(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
-  auto* cmd = app.add_subcommand("render", "Render a motion-blurred picture of a scene (primary rays only) to PNG");
+  auto* cmd = app.add_subcommand(
+      "render", "Render a motion-blurred picture of a scene (PNG, or float EXR by the file extension)");
+  cmd->add_option("SCENE", args->positionalScene, "The scene (as --scene); default: demo");
   addSceneOptions(*cmd, args->scene);
-  addAccelOptions(*cmd, args->accel, std::string(toString(defaultAccelKind())));
-  cmd->add_option("--out,-o", args->out, "PNG file to write")->capture_default_str();
-  cmd->add_option("--width", args->width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd->add_option("--height", args->height, "Image height in pixels")
+  if (auto* s = cmd->get_option_no_throw("--scene")) s->required(false);
+  addAccelOptions(*cmd, args->accel, std::string(toString(bestAccelKind())));
+  RenderOptions& o = args->options;
+  cmd->add_option("--out,-o", args->out, "Image to write: .png (tonemapped) or .exr (linear float)")
+      ->capture_default_str();
+  cmd->add_option("--integrator", args->integrator, "What to compute: " + integratorKindList())
+      ->capture_default_str();
+  cmd->add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--height", o.height, "Image height in pixels (heat maps add a colour bar below)")
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();
-  cmd->add_option("--spp", args->spp, "Samples per pixel, each at its own time")
-      ->check(CLI::Range(1, 4096))
+  cmd->add_option("--spp", o.spp, "Camera samples per pixel, each at its own stratified time")
+      ->check(CLI::Range(1, 65536))
       ->capture_default_str();
+  // The input side may define --shutter for the source's own time units
+  // (e.g. seconds of a glTF clip); then the whole normalized shutter renders.
+  if (!cmd->get_option_no_throw("--shutter"))
+    cmd->add_option("--shutter", args->shutter, "Part A,B of the normalized shutter [0,1] the camera sees")
+        ->delimiter(',')
+        ->expected(2)
+        ->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--ao-samples", o.aoSamples, "Occlusion rays per camera sample (ao)")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  cmd->add_option("--ao-distance", o.aoDistance, "Occlusion ray length (ao); 0: 5% of the scene's diagonal")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--depth", o.maxDepth, "Diffuse bounces (path)")->check(CLI::Range(0, 64))->capture_default_str();
+  cmd->add_option("--heat-max", o.heatMax,
+                  "Value at the top of the heat colour map; 0: the image's 99th percentile (fix it to compare images)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("!--no-color-bar", o.colorBar, "Heat maps without the colour bar");
+  cmd->add_option("--aperture", args->aperture, "Thin-lens aperture radius (0: pinhole); default: the scene's")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--focus", args->focus, "Focus distance (0: eye to target); default: the scene's")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--tile", o.tileSize, "Tile side in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output of ao and path (EXR stays linear)")
+      ->capture_default_str();
+  cmd->add_option("--compare", args->compare,
+                  "Also render with this structure and put both pictures side by side (heat maps on one scale)");
+  cmd->add_flag("--progress", args->progress, "Show the progress bar even when stderr is not a terminal");
   cmd->callback([args] { run(*args); });
 }
 

@@ -46,4 +46,13 @@ std::vector<uint8_t> encodePng(const Image& image);
 // the reason when the file cannot be written.
 void writePng(const std::string& path, const Image& image);
 
+// OpenEXR, linear float RGB (channels R, G, B as 32-bit floats). Built in
+// when mbrt was configured with OpenEXR (MBRT_WITH_OPENEXR); otherwise
+// exrSupported() is false and both calls throw Error saying so.
+bool exrSupported();
+// Throws Error naming the path and the reason when the file cannot be written.
+void writeExr(const std::string& path, const Image& image);
+// Reads R, G, B (missing channels are 0). Throws Error for a missing or bad file.
+Image readExr(const std::string& path);
+
 }  // namespace mbrt
