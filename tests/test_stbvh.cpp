@@ -38,7 +38,7 @@ struct Timing final : detail::TemporalSource {
   }
   bool remake(const detail::BuildRef& ref, TimeRange r, detail::BuildRef& out) const override {
     out = ref;
-    out.bounds = detail::toGlobal(detail::linearBounds(ctx, ref.prim, r), r);
+    out.bounds = detail::linearBounds(ctx, ref.prim, r);
     out.active = detail::activeSegments(ctx, ref.prim, r);
     out.range = r;
     return true;
@@ -67,7 +67,7 @@ Costs rootCosts(const Scene& scene) {
   const detail::RefSetInfo info = detail::summarize(refs);
   const detail::ObjectSplit object = detail::findObjectSplit(refs, info, 32, {0.0f, 1.0f});
   Costs c;
-  c.leaf = detail::mbsahArea(info.bounds, {0.0f, 1.0f}) * float(info.active);
+  c.leaf = detail::mbsahArea(info.bounds) * float(info.active);
   c.object = object.cost;
   const Timing timing(ctx);
   float time = 0.0f;

@@ -25,7 +25,7 @@ struct ShutterRefs final : RefMaker {
 };
 
 // References for a part of the shutter: the primitive's linear bounds over
-// exactly that part (Fig. 4), extrapolated to t = 0 and 1 for the nodes.
+// exactly that part (Fig. 4), local to it (the nodes get the global form).
 struct SceneTiming final : TemporalSource {
   const SceneContext& ctx;
   explicit SceneTiming(const SceneContext& c) : ctx(c) {}
@@ -40,7 +40,7 @@ struct SceneTiming final : TemporalSource {
     const TimeRange alive = ctx.geometry(ref.prim.geomID).timeRange();
     if (!(alive.lo < range.hi && alive.hi > range.lo)) return false;
     out.prim = ref.prim;
-    out.bounds = toGlobal(linearBounds(ctx, ref.prim, range), range);
+    out.bounds = linearBounds(ctx, ref.prim, range);
     out.active = activeSegments(ctx, ref.prim, range);
     out.total = ref.total;
     out.range = range;

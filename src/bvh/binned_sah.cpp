@@ -57,7 +57,7 @@ struct Bin {
 }  // namespace
 
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
-                            TimeRange range) {
+                            TimeRange /*range: bounds are local to it*/) {
   // Binning transform per axis; axes where all keys coincide are skipped.
   ObjectSplit axes[3];
   bool any = false;
@@ -115,7 +115,7 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
     for (int i = numBins - 1; i > 0; --i) {
       acc.extend(ab[i].bounds);
       active += ab[i].active;
-      rightCost[size_t(i)] = mbsahArea(acc, range) * float(active);
+      rightCost[size_t(i)] = mbsahArea(acc) * float(active);
     }
     // Sweep from the left: split between bin i-1 and bin i.
     acc = LBounds();
@@ -126,7 +126,7 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
       active += ab[i - 1].active;
       leftCount += ab[i - 1].count;
       if (leftCount == 0 || leftCount == refs.size()) continue;
-      const float cost = mbsahArea(acc, range) * float(active) + rightCost[size_t(i)];
+      const float cost = mbsahArea(acc) * float(active) + rightCost[size_t(i)];
       if (cost < best.cost) {
         best = axes[axis];
         best.bin = i;

@@ -10,8 +10,8 @@
 
 namespace mbrt::detail {
 
-// MBSAH area of bounds over `range`: half-area of the box at its centre time.
-inline float mbsahArea(const LBounds& b, TimeRange range) { return b.at(range.center()).halfArea(); }
+// MBSAH area of bounds local to a range: half-area of the box at its centre time.
+inline float mbsahArea(const LBounds& b) { return b.at(0.5f).halfArea(); }
 
 // What a node knows of its references before splitting.
 struct RefSetInfo {

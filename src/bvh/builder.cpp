@@ -35,7 +35,7 @@ class Driver {
     BinaryNode node;
     node.bounds = info.bounds;
     node.range = range;
-    const float area = mbsahArea(info.bounds, range);
+    const float area = mbsahArea(info.bounds);
     node.area = area * range.size();
 
     const Decision d = chooseSplit(refs, info, range, depth, area);

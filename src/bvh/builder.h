@@ -37,7 +37,7 @@ struct BuildSettings {
 
 struct BinaryNode {
   static constexpr uint32_t kNone = 0xFFFFFFFFu;
-  LBounds bounds;         // global linear bounds, valid over `range`
+  LBounds bounds;         // linear bounds local to `range` (as BuildRef::bounds)
   TimeRange range;        // time range the node serves (tree parameter)
   float area = 0.0f;      // MBSAH area (half-area at the centre time) x range length
   uint32_t begin = 0;     // leaf: primitives [begin, begin + count) of BinaryTree::prims

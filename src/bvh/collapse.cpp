@@ -1,5 +1,7 @@
 #include "bvh/collapse.h"
 
+#include "geometry/primitive_bounds.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -53,6 +55,18 @@ void countNodes(const BinaryTree& tree, uint32_t id, Counts& c) {
   c.timed += timed;
 }
 
+// The node's bounds extrapolated to t = 0 and 1 (one FMA per plane in
+// traversal, STBVH §3.1); outside the node's range they may invert, which is
+// fine: no ray outside the range reaches the node. Should the extrapolation
+// overflow (a tiny range far from the origin), the constant hull of the
+// local bounds stands in.
+inline LBounds globalBounds(const BinaryNode& c) {
+  const LBounds g = toGlobal(c.bounds, c.range);
+  if (isFinite(g.b0.lower) && isFinite(g.b0.upper) && isFinite(g.b1.lower) && isFinite(g.b1.upper)) return g;
+  const Box3f hull = c.bounds.hull();
+  return LBounds(hull, hull);
+}
+
 template <int N, bool Motion>
 class Emitter {
  public:
@@ -90,7 +104,7 @@ class Emitter {
     }
     for (int i = 0; i < n; ++i) {
       const BinaryNode& c = tree_.nodes[lanes[i]];
-      out_.nodes[index].setBounds(i, c.bounds);
+      out_.nodes[index].setBounds(i, globalBounds(c));
       if (c.isLeaf()) {
         out_.nodes[index].child[i] = uint32_t(out_.prims.size());
         out_.nodes[index].count[i] = uint8_t(c.count);

@@ -16,11 +16,14 @@ constexpr size_t kGrain = 4096;
 
 float stepAt(TimeRange r, uint32_t segments, uint32_t k) { return r.lo + r.size() * float(k) / float(segments); }
 
-// The half's reference; keeps the parent's bounds (conservative over the
-// half too) when the recomputed ones are unusable (extrapolation overflow).
+// The half's reference; when the recomputed bounds are unusable, the
+// parent's hull (conservative over the half too) stands in.
 bool remakeRef(const BuildRef& ref, TimeRange half, const TemporalSource& source, BuildRef& out) {
   if (!source.remake(ref, half, out)) return false;
-  if (!usableBounds(out.bounds)) out.bounds = ref.bounds;
+  if (!usableBounds(out.bounds)) {
+    const Box3f hull = ref.bounds.hull();
+    out.bounds = LBounds(hull, hull);
+  }
   return true;
 }
 
@@ -104,7 +107,7 @@ TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange ra
   float cost = 0.0f;
   for (int i = 0; i < 2; ++i)
     if (s.active[i] > 0)
-      cost += mbsahArea(s.bounds[i], halves[i]) * float(s.active[i]) * (halves[i].size() / range.size());
+      cost += mbsahArea(s.bounds[i]) * float(s.active[i]) * (halves[i].size() / range.size());
   split.cost = cost;
   return split;
 }

@@ -28,8 +28,8 @@ class TemporalSource {
   // The primitive's geometry time range and its motion segments (0: static).
   // Step k sits at range.lo + range.size() * k / segments (Geometry::stepTime).
   virtual TimeRange stepRange(PrimRef prim, uint32_t& segments) const = 0;
-  // The reference for `range` (tree parameter): bounds recomputed over it in
-  // global form, active segments in it. False when the primitive is not alive
+  // The reference for `range` (tree parameter): bounds recomputed over it
+  // (local to it, as BuildRef::bounds), active segments in it. False when the primitive is not alive
   // anywhere in the half-open range.
   virtual bool remake(const BuildRef& ref, TimeRange range, BuildRef& out) const = 0;
 };

@@ -39,7 +39,9 @@ struct alignas(32) WideNode {
   }
   bool hasTimes() const { return times != kNoTimes; }
   bool isLeaf(int lane) const { return count[lane] != 0; }
-  bool isEmpty(int lane) const { return count[lane] == 0 && plane[0][0][lane] > plane[0][1][lane]; }
+  // Only clear() makes +inf planes (stored bounds are finite; extrapolated
+  // ones may be inverted at t = 0, so lower > upper does not mean empty).
+  bool isEmpty(int lane) const { return count[lane] == 0 && plane[0][0][lane] == kInf; }
 
   // Global linear bounds (box at t=0 and t=1); static nodes keep b0.
   void setBounds(int lane, const LBounds& b) {
