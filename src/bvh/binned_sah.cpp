@@ -105,17 +105,20 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
           return a;
         });
   }
-  std::vector<float> rightCost(nb);
+  std::vector<float> rightCost(nb), rightPrim(nb);
   for (int axis = 0; axis < 3; ++axis) {
     if (axes[axis].axis < 0) continue;
     const Bin* ab = &bins[size_t(axis) * nb];
     // Sweep from the right: cost of bins [i, numBins).
     LBounds acc;
     uint64_t active = 0;
+    size_t rightCount = 0;
     for (int i = numBins - 1; i > 0; --i) {
       acc.extend(ab[i].bounds);
       active += ab[i].active;
+      rightCount += ab[i].count;
       rightCost[size_t(i)] = mbsahArea(acc) * float(active);
+      rightPrim[size_t(i)] = mbsahArea(acc) * float(rightCount);
     }
     // Sweep from the left: split between bin i-1 and bin i.
     acc = LBounds();
@@ -131,6 +134,7 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
         best = axes[axis];
         best.bin = i;
         best.cost = cost;
+        best.primCost = mbsahArea(acc) * float(leftCount) + rightPrim[size_t(i)];
       }
     }
   }

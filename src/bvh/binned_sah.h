@@ -24,7 +24,8 @@ RefSetInfo summarize(std::span<const BuildRef> refs);
 struct ObjectSplit {
   int axis = -1;          // -1: no valid split (all keys coincide)
   int bin = 0;            // references in bins [0, bin) go left
-  float cost = kInf;      // areaL*countL + areaR*countR (unnormalised)
+  float cost = kInf;      // areaL*countL + areaR*countR (unnormalised), active segments
+  float primCost = kInf;  // the same split costed with reference counts
   float origin = 0.0f;    // binning transform of the axis
   float scale = 0.0f;
   int numBins = 0;

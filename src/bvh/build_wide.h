@@ -28,6 +28,7 @@ void buildWideBvh(const SceneContext& ctx, std::span<const PrimRef> prims, const
   std::vector<BuildRef> refs = makeBuildRefs(prims, maker);
   BuildSettings settings = settingsFor(ctx.options(), {0.0f, 1.0f});
   settings.temporal = temporal;
+  settings.primitiveLeafCost = temporal != nullptr;  // stbvh
   BinaryTree tree;
   buildBinaryTree(refs, settings, budget, tree);
   collapse(tree, out, budget);

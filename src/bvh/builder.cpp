@@ -104,8 +104,14 @@ class Driver {
       if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
       else temporal = TemporalSplit();
     }
-    const float splitCost = s_.traversalCost * area + best;
-    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafCost)) return d;
+    // Leaf or split: MBSAH with segment counts, or (primitiveLeafCost) the
+    // cost of our leaves, which test a primitive once whatever its segments.
+    float splitCost = s_.traversalCost * area + best, leafTest = leafCost;
+    if (s_.primitiveLeafCost) {
+      splitCost = s_.traversalCost * area + (temporal.valid() ? temporal.primCost : split.primCost);
+      leafTest = area * float(count);
+    }
+    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) return d;
     if (temporal.valid()) {
       d.kind = Decision::Temporal;
       d.time = temporal.time;

@@ -33,6 +33,11 @@ struct BuildSettings {
   size_t parallelThreshold = 4096;  // subtrees larger than this run as tasks
   int maxBinnedDepth = 48;          // deeper: median splits (bounds the depth)
   const TemporalSource* temporal = nullptr;  // null: no temporal splits
+  // Leaf-or-split in reference counts instead of MBSAH segment counts (the
+  // choice between object and temporal splits stays MBSAH): our leaf test
+  // costs one intersection per primitive whatever its segment count, so
+  // leaves may keep several segments of a primitive (docs/stbvh.md).
+  bool primitiveLeafCost = false;
 };
 
 struct BinaryNode {

@@ -30,10 +30,12 @@ bool remakeRef(const BuildRef& ref, TimeRange half, const TemporalSource& source
 struct HalfSums {
   LBounds bounds[2];
   uint64_t active[2] = {0, 0};
+  uint64_t count[2] = {0, 0};
   void merge(const HalfSums& o) {
     for (int i = 0; i < 2; ++i) {
       bounds[i].extend(o.bounds[i]);
       active[i] += o.active[i];
+      count[i] += o.count[i];
     }
   }
 };
@@ -84,6 +86,7 @@ TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange ra
         if (remakeRef(r, halves[i], source, out)) {
           s.bounds[i].extend(out.bounds);
           s.active[i] += out.active;
+          ++s.count[i];
         }
     return s;
   };
@@ -104,11 +107,15 @@ TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange ra
   }
   TemporalSplit split;
   split.time = time;
-  float cost = 0.0f;
+  float cost = 0.0f, primCost = 0.0f;
   for (int i = 0; i < 2; ++i)
-    if (s.active[i] > 0)
-      cost += mbsahArea(s.bounds[i]) * float(s.active[i]) * (halves[i].size() / range.size());
+    if (s.active[i] > 0) {
+      const float p = mbsahArea(s.bounds[i]) * (halves[i].size() / range.size());
+      cost += p * float(s.active[i]);
+      primCost += p * float(s.count[i]);
+    }
   split.cost = cost;
+  split.primCost = primCost;
   return split;
 }
 

@@ -37,6 +37,7 @@ class TemporalSource {
 struct TemporalSplit {
   float time = 0.0f;
   float cost = kInf;  // unnormalised, as ObjectSplit::cost
+  float primCost = kInf;  // the same costed with reference counts
   bool valid() const { return cost < kInf; }
 };
 
