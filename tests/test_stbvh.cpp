@@ -134,6 +134,10 @@ TEST(Mbsah, CurvedMotionTakesTheTemporalSplit) {
   EXPECT_NEAR(c.temporal, 5.0f, 1e-3f);
   EXPECT_GE(c.object, detail::kTemporalTry * c.leaf);
   EXPECT_LT(detail::kTemporalPenalty * c.temporal, c.object);
+  // In the tree (two more lines on the same paths, so that a leaf of pairs
+  // is not enough either): the root splits time at the turning point.
+  addLine(scene, {0.2f, 10.2f, 0.2f}, 1.0f);
+  addLine(scene, {1.3f, 11.3f, 1.3f}, 1.0f);
   const std::vector<TimeRange> ranges = laneRanges(scene, 0);
   bool left = false, right = false;
   for (const TimeRange& r : ranges) {

@@ -57,7 +57,7 @@ struct Bin {
 }  // namespace
 
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
-                            TimeRange /*range: bounds are local to it*/) {
+                            TimeRange /*range: bounds are local to it*/, int leafBlock) {
   // Binning transform per axis; axes where all keys coincide are skipped.
   ObjectSplit axes[3];
   bool any = false;
@@ -118,7 +118,7 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
       active += ab[i].active;
       rightCount += ab[i].count;
       rightCost[size_t(i)] = mbsahArea(acc) * float(active);
-      rightPrim[size_t(i)] = mbsahArea(acc) * float(rightCount);
+      rightPrim[size_t(i)] = mbsahArea(acc) * leafBlocks(rightCount, leafBlock);
     }
     // Sweep from the left: split between bin i-1 and bin i.
     acc = LBounds();
@@ -134,7 +134,7 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
         best = axes[axis];
         best.bin = i;
         best.cost = cost;
-        best.primCost = mbsahArea(acc) * float(leftCount) + rightPrim[size_t(i)];
+        best.primCost = mbsahArea(acc) * leafBlocks(leftCount, leafBlock) + rightPrim[size_t(i)];
       }
     }
   }

@@ -36,8 +36,12 @@ struct ObjectSplit {
 };
 
 // Best split over all three axes; ties go to the lower axis, then lower bin.
+// primCost counts references in blocks of `leafBlock` (ceil(n / leafBlock)).
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
-                            TimeRange range);
+                            TimeRange range, int leafBlock = 1);
+
+// References in blocks of `block`, as a leaf cost.
+inline float leafBlocks(uint64_t count, int block) { return float((count + uint64_t(block) - 1) / uint64_t(block)); }
 
 // Moves the left side to the front; returns its size.
 size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split);

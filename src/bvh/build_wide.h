@@ -28,7 +28,10 @@ void buildWideBvh(const SceneContext& ctx, std::span<const PrimRef> prims, const
   std::vector<BuildRef> refs = makeBuildRefs(prims, maker);
   BuildSettings settings = settingsFor(ctx.options(), {0.0f, 1.0f});
   settings.temporal = temporal;
-  settings.primitiveLeafCost = temporal != nullptr;  // stbvh
+  if (temporal) {  // stbvh: leaf cost in references, in pairs (docs/stbvh.md)
+    settings.primitiveLeafCost = true;
+    settings.leafBlock = 2;
+  }
   BinaryTree tree;
   buildBinaryTree(refs, settings, budget, tree);
   collapse(tree, out, budget);

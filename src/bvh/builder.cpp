@@ -91,7 +91,7 @@ class Driver {
     const size_t count = refs.size();
     if (count <= 1 && !s_.temporal) return d;
     ObjectSplit split;
-    if (depth < s_.maxBinnedDepth && count > 1) split = findObjectSplit(refs, info, s_.numBins, range);
+    if (depth < s_.maxBinnedDepth && count > 1) split = findObjectSplit(refs, info, s_.numBins, range, s_.leafBlock);
     const float leafCost = area * float(info.active);
     float best = split.cost;  // unnormalised, kInf when invalid
     // Temporal split: tried when the object split is poor (θ), chosen when
@@ -100,7 +100,7 @@ class Driver {
     float time = 0.0f;
     if (s_.temporal && depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
         temporalSplitTime(refs, range, *s_.temporal, time)) {
-      temporal = evaluateTemporalSplit(refs, range, time, *s_.temporal);
+      temporal = evaluateTemporalSplit(refs, range, time, *s_.temporal, s_.leafBlock);
       if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
       else temporal = TemporalSplit();
     }
@@ -109,7 +109,7 @@ class Driver {
     float splitCost = s_.traversalCost * area + best, leafTest = leafCost;
     if (s_.primitiveLeafCost) {
       splitCost = s_.traversalCost * area + (temporal.valid() ? temporal.primCost : split.primCost);
-      leafTest = area * float(count);
+      leafTest = area * leafBlocks(count, s_.leafBlock);
     }
     if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) return d;
     if (temporal.valid()) {

@@ -76,7 +76,7 @@ bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const Te
 }
 
 TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
-                                    const TemporalSource& source) {
+                                    const TemporalSource& source, int leafBlock) {
   const TimeRange halves[2] = {{range.lo, time}, {time, range.hi}};
   auto sum = [&](std::span<const BuildRef> part) {
     HalfSums s;
@@ -112,7 +112,7 @@ TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange ra
     if (s.active[i] > 0) {
       const float p = mbsahArea(s.bounds[i]) * (halves[i].size() / range.size());
       cost += p * float(s.active[i]);
-      primCost += p * float(s.count[i]);
+      primCost += p * leafBlocks(s.count[i], leafBlock);
     }
   split.cost = cost;
   split.primCost = primCost;

@@ -47,8 +47,9 @@ struct TemporalSplit {
 bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const TemporalSource& source, float& time);
 
 // Cost of splitting at `time` (no references are made).
+// primCost counts references in blocks of `leafBlock`.
 TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
-                                    const TemporalSource& source);
+                                    const TemporalSource& source, int leafBlock = 1);
 
 // The references of both halves [range.lo, time) and [time, range.hi), in
 // the order of `refs`; references not alive in a half are left out of it.
