@@ -1,4 +1,4 @@
-// The BVH family (bvh-interp, bvh-segments, frozen) against the brute-force
+// The BVH family (bvh-interp, bvh-segments, frozen, stbvh) against the brute-force
 // oracle, plus invariants: conservative bounds, determinism, budgets, refit.
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -162,7 +162,7 @@ std::vector<TestScene> allScenes() {
   return {movingTriangles(1), movingTriangles(2), movingTriangles(5), mixedScene()};
 }
 
-const AccelKind kKinds[] = {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen};
+const AccelKind kKinds[] = {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen, AccelKind::Stbvh};
 
 }  // namespace
 

@@ -45,7 +45,7 @@ class BvhInterp final : public Structure, public BvhInspect {
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
-    addTreeCost(bvh_, 1.0, [&](PrimRef p) { return activeSegments(ctx_, p, {0.0f, 1.0f}); }, sums);
+    addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, {0.0f, 1.0f}); }, sums);
     sums.fill(s, sceneArea_);
   }
 

@@ -78,7 +78,7 @@ class BvhSegments final : public Structure, public BvhInspect {
     const uint32_t n = uint32_t(trees_.size());
     for (uint32_t i = 0; i < n; ++i) {
       const TimeRange r = segmentRange(i, n);
-      addTreeCost(trees_[i], 1.0 / n, [&](PrimRef p) { return activeSegments(ctx_, p, r); }, sums);
+      addTreeCost(trees_[i], 1.0 / n, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, r); }, sums);
     }
     sums.fill(s, sceneArea_);
   }

@@ -50,7 +50,7 @@ class Frozen final : public Structure, public BvhInspect {
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
-    addTreeCost(bvh_, 1.0, [](PrimRef) { return 1u; }, sums);
+    addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
     sums.fill(s, sceneArea_);
   }
 

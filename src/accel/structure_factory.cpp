@@ -5,6 +5,7 @@
 #include "accel/bvh_interp.h"
 #include "accel/bvh_segments.h"
 #include "accel/frozen.h"
+#include "accel/stbvh.h"
 #include "core/scene_context.h"
 #include "msbvh/msbvh.h"
 #ifdef MBRT_HAVE_EMBREE
@@ -44,7 +45,7 @@ std::optional<AccelKind> parseAccelKind(std::string_view name) {
 
 std::vector<AccelKind> availableAccelKinds() {
   std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen,
-                                AccelKind::Msbvh};
+                                AccelKind::Stbvh, AccelKind::Msbvh};
 #ifdef MBRT_HAVE_EMBREE
   kinds.push_back(AccelKind::Embree);
 #endif
@@ -63,6 +64,8 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
       return makeBvhSegments(context);
     case AccelKind::Frozen:
       return makeFrozen(context);
+    case AccelKind::Stbvh:
+      return makeStbvh(context);
     case AccelKind::Msbvh:
       return makeMsbvh(context);
 #ifdef MBRT_HAVE_EMBREE

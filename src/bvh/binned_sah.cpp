@@ -57,7 +57,7 @@ struct Bin {
 }  // namespace
 
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
-                            TimeRange range) {
+                            TimeRange /*range: bounds are local to it*/, int leafBlock) {
   // Binning transform per axis; axes where all keys coincide are skipped.
   ObjectSplit axes[3];
   bool any = false;
@@ -105,17 +105,20 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
           return a;
         });
   }
-  std::vector<float> rightCost(nb);
+  std::vector<float> rightCost(nb), rightPrim(nb);
   for (int axis = 0; axis < 3; ++axis) {
     if (axes[axis].axis < 0) continue;
     const Bin* ab = &bins[size_t(axis) * nb];
     // Sweep from the right: cost of bins [i, numBins).
     LBounds acc;
     uint64_t active = 0;
+    size_t rightCount = 0;
     for (int i = numBins - 1; i > 0; --i) {
       acc.extend(ab[i].bounds);
       active += ab[i].active;
-      rightCost[size_t(i)] = mbsahArea(acc, range) * float(active);
+      rightCount += ab[i].count;
+      rightCost[size_t(i)] = mbsahArea(acc) * float(active);
+      rightPrim[size_t(i)] = mbsahArea(acc) * leafBlocks(rightCount, leafBlock);
     }
     // Sweep from the left: split between bin i-1 and bin i.
     acc = LBounds();
@@ -126,11 +129,12 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
       active += ab[i - 1].active;
       leftCount += ab[i - 1].count;
       if (leftCount == 0 || leftCount == refs.size()) continue;
-      const float cost = mbsahArea(acc, range) * float(active) + rightCost[size_t(i)];
+      const float cost = mbsahArea(acc) * float(active) + rightCost[size_t(i)];
       if (cost < best.cost) {
         best = axes[axis];
         best.bin = i;
         best.cost = cost;
+        best.primCost = mbsahArea(acc) * leafBlocks(leftCount, leafBlock) + rightPrim[size_t(i)];
       }
     }
   }

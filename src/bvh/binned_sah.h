@@ -10,8 +10,8 @@
 
 namespace mbrt::detail {
 
-// MBSAH area of bounds over `range`: half-area of the box at its centre time.
-inline float mbsahArea(const LBounds& b, TimeRange range) { return b.at(range.center()).halfArea(); }
+// MBSAH area of bounds local to a range: half-area of the box at its centre time.
+inline float mbsahArea(const LBounds& b) { return b.at(0.5f).halfArea(); }
 
 // What a node knows of its references before splitting.
 struct RefSetInfo {
@@ -24,7 +24,8 @@ RefSetInfo summarize(std::span<const BuildRef> refs);
 struct ObjectSplit {
   int axis = -1;          // -1: no valid split (all keys coincide)
   int bin = 0;            // references in bins [0, bin) go left
-  float cost = kInf;      // areaL*countL + areaR*countR (unnormalised)
+  float cost = kInf;      // areaL*countL + areaR*countR (unnormalised), active segments
+  float primCost = kInf;  // the same split costed with reference counts
   float origin = 0.0f;    // binning transform of the axis
   float scale = 0.0f;
   int numBins = 0;
@@ -35,8 +36,12 @@ struct ObjectSplit {
 };
 
 // Best split over all three axes; ties go to the lower axis, then lower bin.
+// primCost counts references in blocks of `leafBlock` (ceil(n / leafBlock)).
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
-                            TimeRange range);
+                            TimeRange range, int leafBlock = 1);
+
+// References in blocks of `block`, as a leaf cost.
+inline float leafBlocks(uint64_t count, int block) { return float((count + uint64_t(block) - 1) / uint64_t(block)); }
 
 // Moves the left side to the front; returns its size.
 size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split);

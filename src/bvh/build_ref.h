@@ -1,7 +1,7 @@
 // Build references (STBVH paper §3.3, "build primitives"): the builders see
 // only these, never triangles. A reference is a primitive id, its linear
-// bounds over the build's time range, its MBSAH segment counts (§3.2) and the
-// time range itself (for temporal splits, which later issues add).
+// bounds over its time range, its MBSAH segment counts (§3.2) and the time
+// range itself (temporal splits give references narrower ranges).
 #pragma once
 
 #include <span>
@@ -12,14 +12,17 @@
 namespace mbrt::detail {
 
 struct BuildRef {
-  LBounds bounds;        // global: box at t=0 and t=1 of the tree's time parameter
+  // Local to `range`: b0 is the box at range.lo, b1 at range.hi. Merging
+  // local bounds of one range is tight; merging bounds extrapolated to
+  // t = 0 and 1 is not (collapse.cpp makes the nodes' global form).
+  LBounds bounds;
   PrimRef prim{0, 0};
   uint32_t active = 1;   // primitive segments alive in `range` (MBSAH |X|_s)
   uint32_t total = 1;    // all primitive segments of the primitive
   TimeRange range;       // time range the bounds were made for (tree parameter)
 
   // Binning key: centre of the box at the centre of the range (STBVH §3.3).
-  Vec3f centroid() const { return bounds.at(range.center()).center(); }
+  Vec3f centroid() const { return bounds.at(0.5f).center(); }
 };
 
 // True for bounds a ray can hit: non-empty and finite at both ends.

@@ -19,14 +19,22 @@ inline BuildSettings settingsFor(const BuildOptions& o, TimeRange range) {
   return s;
 }
 
+// With a TemporalSource the builder also makes temporal splits (stbvh).
 template <int N, bool Motion>
 void buildWideBvh(const SceneContext& ctx, std::span<const PrimRef> prims, const RefMaker& maker,
-                  WideBvh<N, Motion>& out) {
+                  WideBvh<N, Motion>& out, const TemporalSource* temporal = nullptr) {
   BuildBudget& budget = ctx.budget();
   ScopedCharge refCharge(budget, prims.size() * (sizeof(BuildRef) + 1), "the BVH build references");
   std::vector<BuildRef> refs = makeBuildRefs(prims, maker);
-  const BinaryTree tree = buildBinaryTree(refs, settingsFor(ctx.options(), {0.0f, 1.0f}), budget);
-  collapse(tree, refs, out, budget);
+  BuildSettings settings = settingsFor(ctx.options(), {0.0f, 1.0f});
+  settings.temporal = temporal;
+  if (temporal) {  // stbvh: leaf cost in references, in pairs (docs/stbvh.md)
+    settings.primitiveLeafCost = true;
+    settings.leafBlock = 2;
+  }
+  BinaryTree tree;
+  buildBinaryTree(refs, settings, budget, tree);
+  collapse(tree, out, budget);
 }
 
 }  // namespace mbrt::detail

@@ -3,74 +3,141 @@
 #include <tbb/parallel_invoke.h>
 
 #include "bvh/binned_sah.h"
+#include "bvh/temporal_split.h"
 
 namespace mbrt::detail {
 namespace {
 
+// Tree storage is charged to the budget in blocks of this many elements.
+constexpr size_t kChargeBlock = 4096;
+
+// Charges the blocks that [first, first + count) starts.
+template <class T>
+void chargeBlocks(GrowingCharge& charge, size_t first, size_t count, const char* what) {
+  const size_t before = (first + kChargeBlock - 1) / kChargeBlock;
+  const size_t after = (first + count + kChargeBlock - 1) / kChargeBlock;
+  if (after > before) charge.charge((after - before) * kChargeBlock * sizeof(T), what);
+}
+
+struct Decision {
+  enum Kind { Leaf, Object, Temporal } kind = Leaf;
+  size_t mid = 0;     // Object: size of the left side (references reordered)
+  float time = 0.0f;  // Temporal: split time
+};
+
 class Driver {
  public:
-  Driver(std::span<BuildRef> refs, const BuildSettings& s, BinaryTree& tree) : refs_(refs), s_(s), tree_(tree) {}
+  Driver(const BuildSettings& s, BinaryTree& tree, BuildBudget& budget) : s_(s), tree_(tree), budget_(budget) {}
 
-  uint32_t build(uint32_t begin, uint32_t end, int depth) {
-    const std::span<BuildRef> refs = refs_.subspan(begin, end - begin);
+  // Builds the subtree of `refs` (all made for `range`); returns its node id.
+  uint32_t build(std::span<BuildRef> refs, TimeRange range, int depth) {
     const RefSetInfo info = summarize(refs);
-    const uint32_t id = next_.fetch_add(1, std::memory_order_relaxed);
     BinaryNode node;
     node.bounds = info.bounds;
-    node.area = mbsahArea(info.bounds, s_.range);
-    node.begin = begin;
-    node.count = end - begin;
+    node.range = range;
+    const float area = mbsahArea(info.bounds);
+    node.area = area * range.size();
 
-    const size_t mid = chooseSplit(refs, info, depth, node.area);
-    if (mid == 0) {
-      tree_.nodes[id] = node;
-      return id;
+    const Decision d = chooseSplit(refs, info, range, depth, area);
+    if (d.kind == Decision::Leaf) {
+      auto it = tree_.prims.grow_by(refs.size());
+      const size_t first = size_t(it - tree_.prims.begin());
+      chargeBlocks<PrimRef>(*tree_.charge, first, refs.size(), "the temporary binary BVH");
+      for (const BuildRef& r : refs) *it++ = r.prim;
+      node.begin = uint32_t(first);
+      node.count = uint32_t(refs.size());
+      return store(node);
     }
-    const uint32_t m = begin + uint32_t(mid);
-    if (node.count > s_.parallelThreshold) {
-      tbb::parallel_invoke([&] { node.child[0] = build(begin, m, depth + 1); },
-                           [&] { node.child[1] = build(m, end, depth + 1); });
-    } else {
-      node.child[0] = build(begin, m, depth + 1);
-      node.child[1] = build(m, end, depth + 1);
+    if (d.kind == Decision::Object) {
+      const std::span<BuildRef> l = refs.first(d.mid), r = refs.subspan(d.mid);
+      children(node, refs.size(), [&] { return build(l, range, depth + 1); },
+               [&] { return build(r, range, depth + 1); });
+      return store(node);
     }
-    tree_.nodes[id] = node;
-    return id;
+    // Temporal: both halves are new reference sets, alive while the children build.
+    std::vector<BuildRef> left, right;
+    ScopedCharge scratch(budget_, 2 * refs.size() * sizeof(BuildRef), "the temporal split references");
+    splitTemporal(refs, range, d.time, *s_.temporal, left, right);
+    const TimeRange lr{range.lo, d.time}, rr{d.time, range.hi};
+    // A half where nothing is alive gets no child: the node narrows to the other.
+    if (left.empty()) return build(right, rr, depth + 1);
+    if (right.empty()) return build(left, lr, depth + 1);
+    children(node, refs.size(), [&] { return build(left, lr, depth + 1); },
+             [&] { return build(right, rr, depth + 1); });
+    return store(node);
   }
 
  private:
-  // Partitions the references and returns the left size, or 0 for a leaf.
-  // Leaf cost C_I*A*|X|_s against C_T*A + split cost (MBSAH, STBVH §3.2).
-  size_t chooseSplit(std::span<BuildRef> refs, const RefSetInfo& info, int depth, float area) {
-    const size_t count = refs.size();
-    if (count <= 1) return 0;
-    ObjectSplit split;
-    if (depth < s_.maxBinnedDepth) split = findObjectSplit(refs, info, s_.numBins, s_.range);
-    const float leafCost = area * float(info.active);
-    const float splitCost = s_.traversalCost * area + split.cost;
-    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafCost)) return 0;
-    size_t mid = split.valid() ? partitionObject(refs, split) : 0;
-    if (mid == 0 || mid == count) mid = partitionMedian(refs, info.centroids.largestAxis());
-    return mid;
+  template <class L, class R>
+  void children(BinaryNode& node, size_t count, const L& left, const R& right) {
+    if (count > s_.parallelThreshold) {
+      tbb::parallel_invoke([&] { node.child[0] = left(); }, [&] { node.child[1] = right(); });
+    } else {
+      node.child[0] = left();
+      node.child[1] = right();
+    }
   }
 
-  std::span<BuildRef> refs_;
+  uint32_t store(const BinaryNode& node) {
+    auto it = tree_.nodes.push_back(node);
+    const size_t id = size_t(it - tree_.nodes.begin());
+    chargeBlocks<BinaryNode>(*tree_.charge, id, 1, "the temporary binary BVH");
+    return uint32_t(id);
+  }
+
+  // Leaf cost C_I*A*|X|_s against C_T*A + split cost (MBSAH, STBVH §3.2).
+  Decision chooseSplit(std::span<BuildRef> refs, const RefSetInfo& info, TimeRange range, int depth, float area) {
+    Decision d;
+    const size_t count = refs.size();
+    if (count <= 1 && !s_.temporal) return d;
+    ObjectSplit split;
+    if (depth < s_.maxBinnedDepth && count > 1) split = findObjectSplit(refs, info, s_.numBins, range, s_.leafBlock);
+    const float leafCost = area * float(info.active);
+    float best = split.cost;  // unnormalised, kInf when invalid
+    // Temporal split: tried when the object split is poor (θ), chosen when
+    // it wins even with the penalty λ for the references it duplicates.
+    TemporalSplit temporal;
+    float time = 0.0f;
+    if (s_.temporal && depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
+        temporalSplitTime(refs, range, *s_.temporal, time)) {
+      temporal = evaluateTemporalSplit(refs, range, time, *s_.temporal, s_.leafBlock);
+      if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
+      else temporal = TemporalSplit();
+    }
+    // Leaf or split: MBSAH with segment counts, or (primitiveLeafCost) the
+    // cost of our leaves, which test a primitive once whatever its segments.
+    float splitCost = s_.traversalCost * area + best, leafTest = leafCost;
+    if (s_.primitiveLeafCost) {
+      splitCost = s_.traversalCost * area + (temporal.valid() ? temporal.primCost : split.primCost);
+      leafTest = area * leafBlocks(count, s_.leafBlock);
+    }
+    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) return d;
+    if (temporal.valid()) {
+      d.kind = Decision::Temporal;
+      d.time = temporal.time;
+      return d;
+    }
+    if (count <= 1) return d;
+    size_t mid = split.valid() ? partitionObject(refs, split) : 0;
+    if (mid == 0 || mid == count) mid = partitionMedian(refs, info.centroids.largestAxis());
+    d.kind = Decision::Object;
+    d.mid = mid;
+    return d;
+  }
+
   const BuildSettings& s_;
   BinaryTree& tree_;
-  std::atomic<uint32_t> next_{0};
+  BuildBudget& budget_;
 };
 
 }  // namespace
 
-BinaryTree buildBinaryTree(std::span<BuildRef> refs, const BuildSettings& settings, BuildBudget& budget) {
-  BinaryTree tree;
-  if (refs.empty()) return tree;
-  const size_t maxNodes = 2 * refs.size() - 1;  // every leaf holds >= 1 reference
-  tree.charge = std::make_unique<ScopedCharge>(budget, maxNodes * sizeof(BinaryNode), "the temporary binary BVH");
-  tree.nodes.resize(maxNodes);
-  Driver driver(refs, settings, tree);
-  tree.root = driver.build(0, uint32_t(refs.size()), 0);
-  return tree;
+void buildBinaryTree(std::span<BuildRef> refs, const BuildSettings& settings, BuildBudget& budget, BinaryTree& tree) {
+  if (refs.empty()) return;
+  tree.charge = std::make_unique<GrowingCharge>(budget);
+  tree.range = settings.range;
+  Driver driver(settings, tree, budget);
+  tree.root = driver.build(refs, settings.range, 0);
 }
 
 }  // namespace mbrt::detail

@@ -1,12 +1,14 @@
-// The one top-down build driver of the BVH family (STBVH §3.3, Algorithm 1,
-// without temporal splits yet): at each node it asks the split strategies
-// for a split, compares the cheapest with the leaf cost and recurses, in
-// parallel over subtrees. The result is a temporary binary tree that
-// collapse.h turns into N-wide nodes.
+// The one top-down build driver of the BVH family (STBVH §3.3, Algorithm 1):
+// at each node it asks the split strategies for a split (object splits from
+// binned_sah.h; temporal splits from temporal_split.h when the settings give
+// a TemporalSource), compares the cheapest with the leaf cost and recurses,
+// in parallel over subtrees. The result is a temporary binary tree that
+// collapse.h turns into N-wide nodes. Without a TemporalSource this is the
+// builder of bvh-interp, bvh-segments and frozen.
 //
-// Extension points: `chooseSplit` in builder.cpp is where temporal splits
-// (STBVH) and spatial splits (MSBVH/SBVH) join the object split; both
-// produce two reference sets, which the driver already handles.
+// Extension point: `chooseSplit` in builder.cpp is where spatial splits
+// (MSBVH/SBVH) would join; like temporal splits they produce two new
+// reference sets, which the driver already handles.
 #pragma once
 
 #include <atomic>
@@ -14,10 +16,14 @@
 #include <span>
 #include <vector>
 
+#include <tbb/concurrent_vector.h>
+
 #include "bvh/build_ref.h"
 #include "core/build_budget.h"
 
 namespace mbrt::detail {
+
+class TemporalSource;
 
 struct BuildSettings {
   int maxLeafSize = 8;
@@ -26,29 +32,62 @@ struct BuildSettings {
   TimeRange range;             // the tree's time range (tree parameter)
   size_t parallelThreshold = 4096;  // subtrees larger than this run as tasks
   int maxBinnedDepth = 48;          // deeper: median splits (bounds the depth)
+  const TemporalSource* temporal = nullptr;  // null: no temporal splits
+  // Leaf-or-split in reference counts instead of MBSAH segment counts (the
+  // choice between object and temporal splits stays MBSAH): our leaf test
+  // costs one intersection per primitive whatever its segment count, so
+  // leaves may keep several segments of a primitive (docs/stbvh.md).
+  bool primitiveLeafCost = false;
+  // With primitiveLeafCost: references counted in blocks of this many, so a
+  // leaf of 2 costs what a leaf of 1 does (Embree counts blocks of 4): fewer,
+  // fuller leaves and fewer nodes for a few more intersections per ray.
+  int leafBlock = 1;
 };
 
 struct BinaryNode {
   static constexpr uint32_t kNone = 0xFFFFFFFFu;
-  LBounds bounds;
-  float area = 0.0f;      // MBSAH area (half-area at the centre time)
-  uint32_t begin = 0;     // references [begin, begin + count)
+  LBounds bounds;         // linear bounds local to `range` (as BuildRef::bounds)
+  TimeRange range;        // time range the node serves (tree parameter)
+  float area = 0.0f;      // MBSAH area (half-area at the centre time) x range length
+  uint32_t begin = 0;     // leaf: primitives [begin, begin + count) of BinaryTree::prims
   uint32_t count = 0;
   uint32_t child[2] = {kNone, kNone};
   bool isLeaf() const { return child[0] == kNone; }
 };
 
-// Node storage order depends on the thread count; the tree it describes does
-// not (every decision depends only on the references of the node).
-struct BinaryTree {
-  std::vector<BinaryNode> nodes;
-  uint32_t root = BinaryNode::kNone;
-  std::unique_ptr<ScopedCharge> charge;
-  bool empty() const { return root == BinaryNode::kNone; }
+// Memory charged by a tree in blocks as it grows; released with the tree.
+class GrowingCharge {
+ public:
+  explicit GrowingCharge(BuildBudget& budget) : budget_(budget) {}
+  ~GrowingCharge() { budget_.release(bytes_.load()); }
+  void charge(size_t bytes, const char* what) {
+    budget_.charge(bytes, what);
+    bytes_ += bytes;
+  }
+
+ private:
+  BuildBudget& budget_;
+  std::atomic<size_t> bytes_{0};
 };
 
-// Builds over `refs`, reordering them so every leaf is a contiguous range.
-// Charges the tree to `budget` for its lifetime.
-BinaryTree buildBinaryTree(std::span<BuildRef> refs, const BuildSettings& settings, BuildBudget& budget);
+// Node and primitive storage order depends on the thread count; the tree it
+// describes does not (every decision depends only on the node's references).
+struct BinaryTree {
+  tbb::concurrent_vector<BinaryNode> nodes;
+  tbb::concurrent_vector<PrimRef> prims;  // leaf primitives
+  uint32_t root = BinaryNode::kNone;
+  TimeRange range;  // the tree's time range (BuildSettings::range)
+  std::unique_ptr<GrowingCharge> charge;
+  bool empty() const { return root == BinaryNode::kNone; }
+
+  // Built in place (concurrent_vector's moves are not to be relied on).
+  BinaryTree() = default;
+  BinaryTree(const BinaryTree&) = delete;
+  BinaryTree& operator=(const BinaryTree&) = delete;
+};
+
+// Builds `tree` (empty) over `refs` (reordered; temporal splits work on copies). Charges the
+// tree and the copies to `budget`, the tree for its lifetime.
+void buildBinaryTree(std::span<BuildRef> refs, const BuildSettings& settings, BuildBudget& budget, BinaryTree& tree);
 
 }  // namespace mbrt::detail

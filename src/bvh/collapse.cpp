@@ -1,6 +1,10 @@
 #include "bvh/collapse.h"
 
+#include "geometry/primitive_bounds.h"
+
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 
 namespace mbrt::detail {
 namespace {
@@ -32,59 +36,115 @@ int openChildren(const BinaryTree& tree, uint32_t id, uint32_t (&lanes)[N]) {
   return n;
 }
 
+struct Counts {
+  size_t nodes = 0, timed = 0;
+};
+
 template <int N>
-size_t countNodes(const BinaryTree& tree, uint32_t id) {
+void countNodes(const BinaryTree& tree, uint32_t id, Counts& c) {
   uint32_t lanes[N];
   const int n = openChildren<N>(tree, id, lanes);
-  size_t total = 1;
-  for (int i = 0; i < n; ++i)
-    if (!tree.nodes[lanes[i]].isLeaf()) total += countNodes<N>(tree, lanes[i]);
-  return total;
+  ++c.nodes;
+  const TimeRange range = tree.nodes[id].range;
+  bool timed = false;
+  for (int i = 0; i < n; ++i) {
+    const BinaryNode& child = tree.nodes[lanes[i]];
+    timed |= !(child.range == range);
+    if (!child.isLeaf()) countNodes<N>(tree, lanes[i], c);
+  }
+  c.timed += timed;
+}
+
+// The node's bounds extrapolated to t = 0 and 1 (one FMA per plane in
+// traversal, STBVH §3.1); outside the node's range they may invert, which is
+// fine: no ray outside the range reaches the node. Should the extrapolation
+// overflow (a tiny range far from the origin), the constant hull of the
+// local bounds stands in.
+inline LBounds globalBounds(const BinaryNode& c) {
+  const LBounds g = toGlobal(c.bounds, c.range);
+  if (isFinite(g.b0.lower) && isFinite(g.b0.upper) && isFinite(g.b1.lower) && isFinite(g.b1.upper)) return g;
+  const Box3f hull = c.bounds.hull();
+  return LBounds(hull, hull);
 }
 
 template <int N, bool Motion>
-uint32_t emit(const BinaryTree& tree, uint32_t id, WideBvh<N, Motion>& out, uint32_t depth) {
-  const uint32_t index = uint32_t(out.nodes.size());
-  out.nodes.emplace_back();
-  out.nodes[index].clear();
-  out.depth = std::max(out.depth, depth);
-  uint32_t lanes[N];
-  const int n = openChildren<N>(tree, id, lanes);
-  // Stack bound: every level leaves at most N-1 siblings behind.
-  out.stackSize = std::max(out.stackSize, (N - 1) * depth + 1);
-  for (int i = 0; i < n; ++i) {
-    const BinaryNode& c = tree.nodes[lanes[i]];
-    out.nodes[index].setBounds(i, c.bounds);
-    if (c.isLeaf()) {
-      out.nodes[index].child[i] = c.begin;
-      out.nodes[index].count[i] = uint8_t(c.count);
-    } else {
-      const uint32_t childIndex = emit(tree, lanes[i], out, depth + 1);
-      out.nodes[index].child[i] = childIndex;
+class Emitter {
+ public:
+  Emitter(const BinaryTree& tree, WideBvh<N, Motion>& out) : tree_(tree), out_(out) {}
+
+  uint32_t emit(uint32_t id, uint32_t depth) {
+    const uint32_t index = uint32_t(out_.nodes.size());
+    out_.nodes.emplace_back();
+    out_.nodes[index].clear();
+    out_.depth = std::max(out_.depth, depth);
+    uint32_t lanes[N];
+    const int n = openChildren<N>(tree_, id, lanes);
+    // Stack bound: every level leaves at most N-1 siblings behind.
+    out_.stackSize = std::max(out_.stackSize, (N - 1) * depth + 1);
+    // Lanes serving less than the node's range get time ranges.
+    const TimeRange range = tree_.nodes[id].range;
+    bool timed = false;
+    for (int i = 0; i < n; ++i) timed |= !(tree_.nodes[lanes[i]].range == range);
+    if (Motion && timed) {
+      LaneTimes<N> lt;
+      std::memset(static_cast<void*>(&lt), 0, sizeof(lt));  // padding too: bytes are compared
+      for (int i = 0; i < N; ++i) {
+        lt.t0[i] = kInf;
+        lt.t1[i] = -kInf;
+      }
+      const float end = tree_.range.hi;
+      for (int i = 0; i < n; ++i) {
+        const TimeRange r = tree_.nodes[lanes[i]].range;
+        lt.t0[i] = r.lo;
+        // The end of the tree's range is inclusive: store the next float up.
+        lt.t1[i] = r.hi >= end ? std::nextafter(r.hi, kInf) : r.hi;
+      }
+      out_.nodes[index].times = uint32_t(out_.times.size());
+      out_.times.push_back(lt);
     }
+    for (int i = 0; i < n; ++i) {
+      const BinaryNode& c = tree_.nodes[lanes[i]];
+      out_.nodes[index].setBounds(i, globalBounds(c));
+      if (c.isLeaf()) {
+        out_.nodes[index].child[i] = uint32_t(out_.prims.size());
+        out_.nodes[index].count[i] = uint8_t(c.count);
+        for (uint32_t k = 0; k < c.count; ++k) out_.prims.push_back(tree_.prims[c.begin + k]);
+      } else {
+        const uint32_t childIndex = emit(lanes[i], depth + 1);
+        out_.nodes[index].child[i] = childIndex;
+      }
+    }
+    return index;
   }
-  return index;
-}
+
+ private:
+  const BinaryTree& tree_;
+  WideBvh<N, Motion>& out_;
+};
 
 }  // namespace
 
 template <int N, bool Motion>
-void collapse(const BinaryTree& tree, std::span<const BuildRef> refs, WideBvh<N, Motion>& out, BuildBudget& budget) {
+void collapse(const BinaryTree& tree, WideBvh<N, Motion>& out, BuildBudget& budget) {
   out = WideBvh<N, Motion>();
   if (tree.empty()) return;
-  const size_t numNodes = countNodes<N>(tree, tree.root);
-  budget.charge(numNodes * sizeof(WideNode<N, Motion>) + refs.size() * sizeof(PrimRef), "the BVH nodes");
-  out.nodes.reserve(numNodes);
-  out.prims.resize(refs.size());
-  for (size_t i = 0; i < refs.size(); ++i) out.prims[i] = refs[i].prim;
-  emit(tree, tree.root, out, 1);
+  Counts counts;
+  countNodes<N>(tree, tree.root, counts);
+  if (!Motion) counts.timed = 0;
+  budget.charge(counts.nodes * sizeof(WideNode<N, Motion>) + tree.prims.size() * sizeof(PrimRef) +
+                    counts.timed * sizeof(LaneTimes<N>),
+                "the BVH nodes");
+  out.nodes.reserve(counts.nodes);
+  out.times.reserve(counts.timed);
+  out.prims.reserve(tree.prims.size());
+  Emitter<N, Motion>(tree, out).emit(tree.root, 1);
 }
 
-template void collapse<2, true>(const BinaryTree&, std::span<const BuildRef>, WideBvh<2, true>&, BuildBudget&);
-template void collapse<4, true>(const BinaryTree&, std::span<const BuildRef>, WideBvh<4, true>&, BuildBudget&);
-template void collapse<8, true>(const BinaryTree&, std::span<const BuildRef>, WideBvh<8, true>&, BuildBudget&);
-template void collapse<2, false>(const BinaryTree&, std::span<const BuildRef>, WideBvh<2, false>&, BuildBudget&);
-template void collapse<4, false>(const BinaryTree&, std::span<const BuildRef>, WideBvh<4, false>&, BuildBudget&);
-template void collapse<8, false>(const BinaryTree&, std::span<const BuildRef>, WideBvh<8, false>&, BuildBudget&);
+template void collapse<2, true>(const BinaryTree&, WideBvh<2, true>&, BuildBudget&);
+template void collapse<4, true>(const BinaryTree&, WideBvh<4, true>&, BuildBudget&);
+template void collapse<8, true>(const BinaryTree&, WideBvh<8, true>&, BuildBudget&);
+template void collapse<2, false>(const BinaryTree&, WideBvh<2, false>&, BuildBudget&);
+template void collapse<4, false>(const BinaryTree&, WideBvh<4, false>&, BuildBudget&);
+template void collapse<8, false>(const BinaryTree&, WideBvh<8, false>&, BuildBudget&);
 
 }  // namespace mbrt::detail

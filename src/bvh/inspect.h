@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstring>
+#include <algorithm>
 #include <functional>
 #include <span>
 #include <utility>
@@ -13,7 +14,7 @@
 namespace mbrt::detail {
 
 struct LaneView {
-  TimeRange range;                             // global times the tree serves
+  TimeRange range;                             // global times the lane serves
   std::function<Box3f(float globalTime)> box;  // as the node test computes it
   std::span<const PrimRef> below;              // references under the lane
 };
@@ -25,29 +26,52 @@ class BvhInspect {
   virtual std::vector<uint8_t> bytes() const = 0;
 };
 
-// Visits the lanes below `node`: fn(node, lane, references below the lane).
-// Returns the reference range of the subtree (contiguous by construction).
+// The time range lane `lane` of `node` serves, inside the node's `range`
+// (tree parameter; the stored inclusive end is mapped back).
+template <int N, bool Motion>
+TimeRange laneRange(const WideBvh<N, Motion>& bvh, const WideNode<N, Motion>& node, int lane, TimeRange range) {
+  if (!node.hasTimes()) return range;
+  const LaneTimes<N>& t = bvh.times[node.times];
+  return {std::max(range.lo, t.t0[lane]), std::min(range.hi, t.t1[lane])};
+}
+
+// Visits the lanes below `node` (serving `range`): fn(node, lane, lane's time
+// range, references below the lane). Returns the reference range of the
+// subtree (contiguous by construction).
 template <int N, bool Motion, class Fn>
-std::pair<uint32_t, uint32_t> walkLanes(const WideBvh<N, Motion>& bvh, uint32_t node, const Fn& fn) {
+std::pair<uint32_t, uint32_t> walkTimedLanes(const WideBvh<N, Motion>& bvh, uint32_t node, TimeRange range,
+                                             const Fn& fn) {
   uint32_t first = ~0u, end = 0;
   const auto& n = bvh.nodes[node];
   for (int i = 0; i < N; ++i) {
     if (n.isEmpty(i)) continue;
-    std::pair<uint32_t, uint32_t> r{n.child[i], n.child[i] + n.count[i]};
-    if (!n.isLeaf(i)) r = walkLanes(bvh, n.child[i], fn);
-    fn(n, i, std::span<const PrimRef>(bvh.prims.data() + r.first, r.second - r.first));
-    first = std::min(first, r.first);
-    end = std::max(end, r.second);
+    const TimeRange r = laneRange(bvh, n, i, range);
+    std::pair<uint32_t, uint32_t> refs{n.child[i], n.child[i] + n.count[i]};
+    if (!n.isLeaf(i)) refs = walkTimedLanes(bvh, n.child[i], r, fn);
+    fn(n, i, r, std::span<const PrimRef>(bvh.prims.data() + refs.first, refs.second - refs.first));
+    first = std::min(first, refs.first);
+    end = std::max(end, refs.second);
   }
   return {first, end};
+}
+
+// As walkTimedLanes, for trees without time ranges: fn(node, lane, references).
+template <int N, bool Motion, class Fn>
+std::pair<uint32_t, uint32_t> walkLanes(const WideBvh<N, Motion>& bvh, uint32_t node, const Fn& fn) {
+  return walkTimedLanes(bvh, node, TimeRange{0.0f, 1.0f},
+                        [&](const WideNode<N, Motion>& n, int lane, TimeRange, std::span<const PrimRef> below) {
+                          fn(n, lane, below);
+                        });
 }
 
 template <int N, bool Motion>
 void appendBytes(const WideBvh<N, Motion>& bvh, std::vector<uint8_t>& out) {
   const size_t a = out.size(), nb = bvh.nodes.size() * sizeof(bvh.nodes[0]);
-  out.resize(a + nb + bvh.prims.size() * sizeof(PrimRef));
+  const size_t np = bvh.prims.size() * sizeof(PrimRef), nt = bvh.times.size() * sizeof(LaneTimes<N>);
+  out.resize(a + nb + np + nt);
   if (nb) std::memcpy(out.data() + a, bvh.nodes.data(), nb);
-  if (!bvh.prims.empty()) std::memcpy(out.data() + a + nb, bvh.prims.data(), bvh.prims.size() * sizeof(PrimRef));
+  if (np) std::memcpy(out.data() + a + nb, bvh.prims.data(), np);
+  if (nt) std::memcpy(out.data() + a + nb + np, bvh.times.data(), nt);
 }
 
 }  // namespace mbrt::detail

@@ -35,9 +35,35 @@ struct SahSums {
   }
 };
 
+template <int N, bool Motion, class SegOf>
+void addLaneCosts(const WideBvh<N, Motion>& bvh, uint32_t index, TimeRange range, double T, const SegOf& segOf,
+                  SahSums& sums) {
+  const auto& node = bvh.nodes[index];
+  for (int i = 0; i < N; ++i) {
+    if (node.isEmpty(i)) continue;
+    TimeRange r = range;
+    if (node.hasTimes()) {
+      const LaneTimes<N>& t = bvh.times[node.times];
+      r = {std::max(range.lo, t.t0[i]), std::min(range.hi, t.t1[i])};
+    }
+    const double area = meanSurfaceArea(node.bounds(i), r.lo, r.hi) * T * double(r.size());
+    if (node.isLeaf(i)) {
+      double seg = 0.0;
+      for (uint32_t k = 0; k < node.count[i]; ++k) seg += double(segOf(bvh.prims[node.child[i] + k], r));
+      sums.leaves += area * seg;
+      ++sums.leafNodes;
+    } else {
+      sums.inner += area;
+      addLaneCosts(bvh, node.child[i], r, T, segOf, sums);
+    }
+  }
+}
+
 // Adds one tree whose nodes cover a time range of length T (tree parameter
-// [0,1]). segOf(prim) gives the active segment count of a reference.
-// maxDepth counts the wide nodes on a path plus the leaf.
+// [0,1]); lanes of spatial-temporal nodes cover their part of it.
+// segOf(prim, range) gives the active segment count of a reference in a leaf
+// serving `range` (tree parameter). maxDepth counts the wide nodes on a path
+// plus the leaf.
 template <int N, bool Motion, class SegOf>
 void addTreeCost(const WideBvh<N, Motion>& bvh, double T, const SegOf& segOf, SahSums& sums) {
   sums.bytes += bvh.bytes();
@@ -45,24 +71,22 @@ void addTreeCost(const WideBvh<N, Motion>& bvh, double T, const SegOf& segOf, Sa
   if (bvh.empty()) return;
   sums.innerNodes += bvh.nodes.size();
   sums.maxDepth = std::max(sums.maxDepth, size_t(bvh.depth) + 1);
-  // Node boxes: the root's is the union of its lanes, others are in the parent.
-  LBounds root;
-  for (int i = 0; i < N; ++i)
-    if (!bvh.nodes[0].isEmpty(i)) root.extend(bvh.nodes[0].bounds(i));
-  sums.inner += meanSurfaceArea(root) * T;
-  for (const auto& node : bvh.nodes)
+  // Node boxes: the root's is the union of its lanes (those serving the
+  // time, for a spatial-temporal root), others are in the parent.
+  const auto& root = bvh.nodes[0];
+  double rootArea = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const float t = float(k) / 7.0f;
+    Box3f box;
     for (int i = 0; i < N; ++i) {
-      if (node.isEmpty(i)) continue;
-      const double area = meanSurfaceArea(node.bounds(i)) * T;
-      if (node.isLeaf(i)) {
-        double seg = 0.0;
-        for (uint32_t k = 0; k < node.count[i]; ++k) seg += double(segOf(bvh.prims[node.child[i] + k]));
-        sums.leaves += area * seg;
-        ++sums.leafNodes;
-      } else {
-        sums.inner += area;
-      }
+      if (root.isEmpty(i)) continue;
+      if (root.hasTimes() && !(bvh.times[root.times].t0[i] <= t && t <= bvh.times[root.times].t1[i])) continue;
+      box.extend(root.bounds(i).at(t));
     }
+    if (!box.empty()) rootArea += double(box.area());
+  }
+  sums.inner += rootArea / 8.0 * T;
+  addLaneCosts(bvh, 0, TimeRange{0.0f, 1.0f}, T, segOf, sums);
 }
 
 }  // namespace mbrt::detail

@@ -43,6 +43,7 @@ struct Pack<1> {
   friend Pack vmin(Pack a, Pack b) { return {a.v < b.v ? a.v : b.v}; }
   friend Pack vmax(Pack a, Pack b) { return {a.v > b.v ? a.v : b.v}; }
   friend uint32_t lessEqualMask(Pack a, Pack b) { return a.v <= b.v ? 1u : 0u; }
+  friend uint32_t lessMask(Pack a, Pack b) { return a.v < b.v ? 1u : 0u; }
   void store(float* p) const { *p = v; }
 };
 
@@ -64,6 +65,7 @@ struct Pack<4> {
   friend Pack vmin(Pack a, Pack b) { return {_mm_min_ps(a.v, b.v)}; }
   friend Pack vmax(Pack a, Pack b) { return {_mm_max_ps(a.v, b.v)}; }
   friend uint32_t lessEqualMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmple_ps(a.v, b.v))); }
+  friend uint32_t lessMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmplt_ps(a.v, b.v))); }
   void store(float* p) const { _mm_store_ps(p, v); }
 };
 #endif
@@ -82,6 +84,7 @@ struct Pack<8> {
   friend uint32_t lessEqualMask(Pack a, Pack b) {
     return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)));
   }
+  friend uint32_t lessMask(Pack a, Pack b) { return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ))); }
   void store(float* p) const { _mm256_store_ps(p, v); }
 };
 #endif

@@ -33,9 +33,11 @@ struct NodeRay {
   }
 };
 
-// Bit i set when lane i is hit within [tnear, tfar]; dist[i] = entry distance.
+// Bit i set when lane i is hit within [tnear, tfar] (and, for a
+// spatial-temporal node, serves the ray's time); dist[i] = entry distance.
 template <int W, int N, bool Motion>
-inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>& r, float tfar, float* dist) {
+inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>& r, float tfar, float* dist,
+                              const LaneTimes<N>* times = nullptr) {
   static_assert(N % W == 0);
   using P = Pack<W>;
   const P far = P::set1(tfar), scale = P::set1(kRobustFarScale), inf = P::set1(kInf);
@@ -54,7 +56,9 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
       tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
     }
     tf = vmin(tf * scale, far);
-    mask |= lessEqualMask(tn, tf) << base;
+    uint32_t hit = lessEqualMask(tn, tf);
+    if (times) hit &= lessEqualMask(P::load(&times->t0[base]), r.time) & lessMask(r.time, P::load(&times->t1[base]));
+    mask |= hit << base;
     tn.store(dist + base);
   }
   return mask;
@@ -97,7 +101,8 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
           ++counters->nodesVisited;
           counters->boxTests += N;
         }
-        uint32_t mask = intersectNode<W>(node, r, ray.tfar, dist);
+        const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
+        uint32_t mask = intersectNode<W>(node, r, ray.tfar, dist, times);
         if (mask == 0) break;
         // Nearest child next; the others go on the stack, farthest first.
         int lane = __builtin_ctz(mask);

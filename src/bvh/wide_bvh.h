@@ -14,11 +14,14 @@ struct WideBvh {
   using Node = WideNode<N, Motion>;
   std::vector<Node> nodes;
   std::vector<PrimRef> prims;
+  std::vector<LaneTimes<N>> times;  // lane time ranges of spatial-temporal nodes
   uint32_t depth = 0;       // wide nodes on the longest root-to-leaf path
   uint32_t stackSize = 1;   // traversal stack entries the tree can need
 
   bool empty() const { return nodes.empty(); }
-  size_t bytes() const { return nodes.size() * sizeof(Node) + prims.size() * sizeof(PrimRef); }
+  size_t bytes() const {
+    return nodes.size() * sizeof(Node) + prims.size() * sizeof(PrimRef) + times.size() * sizeof(LaneTimes<N>);
+  }
 };
 
 }  // namespace mbrt::detail

@@ -3,6 +3,11 @@
 // plane, so the box at ray time t is one FMA per plane: lo = fma(t, dlo, lo0).
 // Static nodes (the `frozen` kind) store one box. Empty lanes have
 // lower = +inf, upper = -inf, d = 0: every slab test misses them.
+//
+// Spatial-temporal nodes (STBVH §3.3) also give each lane a time range
+// [t0, t1): `times` indexes the tree's LaneTimes table (kNoTimes: every lane
+// serves the whole range of the node). The index lives in the node's
+// alignment padding, so plain nodes cost no byte more.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +25,8 @@ struct alignas(32) WideNode {
   float plane[3][kPlanes][N];
   uint32_t child[N];  // inner: node index; leaf: first reference
   uint8_t count[N];   // 0: inner node (or empty lane); > 0: leaf size
+  uint32_t times;     // LaneTimes index, or kNoTimes
+  static constexpr uint32_t kNoTimes = 0xFFFFFFFFu;
 
   void clear() {
     std::memset(static_cast<void*>(this), 0, sizeof(*this));
@@ -28,9 +35,13 @@ struct alignas(32) WideNode {
         plane[a][0][l] = kInf;
         plane[a][1][l] = -kInf;
       }
+    times = kNoTimes;
   }
+  bool hasTimes() const { return times != kNoTimes; }
   bool isLeaf(int lane) const { return count[lane] != 0; }
-  bool isEmpty(int lane) const { return count[lane] == 0 && plane[0][0][lane] > plane[0][1][lane]; }
+  // Only clear() makes +inf planes (stored bounds are finite; extrapolated
+  // ones may be inverted at t = 0, so lower > upper does not mean empty).
+  bool isEmpty(int lane) const { return count[lane] == 0 && plane[0][0][lane] == kInf; }
 
   // Global linear bounds (box at t=0 and t=1); static nodes keep b0.
   void setBounds(int lane, const LBounds& b) {
@@ -68,6 +79,17 @@ struct alignas(32) WideNode {
     }
     return b;
   }
+};
+
+// Per-lane time ranges of a spatial-temporal node, in the tree's time
+// parameter: lane i serves t0[i] <= t < t1[i]. A range ending at the end of
+// the tree's range stores the next float above it, so that end is included;
+// an inner boundary belongs to the lane on its right only. Empty lanes have
+// t0 = +inf, t1 = -inf.
+template <int N>
+struct alignas(32) LaneTimes {
+  float t0[N];
+  float t1[N];
 };
 
 }  // namespace mbrt::detail

@@ -1,0 +1,145 @@
+#include "bvh/temporal_split.h"
+
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "bvh/binned_sah.h"
+
+namespace mbrt::detail {
+namespace {
+
+constexpr size_t kParallelRefs = 16384;
+constexpr size_t kGrain = 4096;
+
+float stepAt(TimeRange r, uint32_t segments, uint32_t k) { return r.lo + r.size() * float(k) / float(segments); }
+
+// The half's reference; when the recomputed bounds are unusable, the
+// parent's hull (conservative over the half too) stands in.
+bool remakeRef(const BuildRef& ref, TimeRange half, const TemporalSource& source, BuildRef& out) {
+  if (!source.remake(ref, half, out)) return false;
+  if (!usableBounds(out.bounds)) {
+    const Box3f hull = ref.bounds.hull();
+    out.bounds = LBounds(hull, hull);
+  }
+  return true;
+}
+
+struct HalfSums {
+  LBounds bounds[2];
+  uint64_t active[2] = {0, 0};
+  uint64_t count[2] = {0, 0};
+  void merge(const HalfSums& o) {
+    for (int i = 0; i < 2; ++i) {
+      bounds[i].extend(o.bounds[i]);
+      active[i] += o.active[i];
+      count[i] += o.count[i];
+    }
+  }
+};
+
+}  // namespace
+
+bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const TemporalSource& source, float& time) {
+  float shortest = kInf;
+  const BuildRef* most = nullptr;
+  uint32_t mostSegments = 0;
+  TimeRange mostRange;
+  for (const BuildRef& r : refs) {
+    uint32_t segments = 0;
+    const TimeRange steps = source.stepRange(r.prim, segments);
+    if (segments == 0) continue;  // static: no steps to split at
+    shortest = std::min(shortest, steps.size() / float(segments));
+    const bool better = !most || r.active > most->active ||
+                        (r.active == most->active &&
+                         (r.prim.geomID < most->prim.geomID ||
+                          (r.prim.geomID == most->prim.geomID && r.prim.primID < most->prim.primID)));
+    if (better) {
+      most = &r;
+      mostSegments = segments;
+      mostRange = steps;
+    }
+  }
+  if (!most || !(range.size() > shortest)) return false;
+  // Nearest step to the centre, then moved strictly inside the range.
+  const float c = range.center();
+  int k = int(std::lround((c - mostRange.lo) / mostRange.size() * float(mostSegments)));
+  k = std::clamp(k, 0, int(mostSegments));
+  while (k < int(mostSegments) && stepAt(mostRange, mostSegments, uint32_t(k)) <= range.lo) ++k;
+  while (k > 0 && stepAt(mostRange, mostSegments, uint32_t(k)) >= range.hi) --k;
+  const float t = stepAt(mostRange, mostSegments, uint32_t(k));
+  if (!(t > range.lo && t < range.hi)) return false;
+  time = t;
+  return true;
+}
+
+TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
+                                    const TemporalSource& source, int leafBlock) {
+  const TimeRange halves[2] = {{range.lo, time}, {time, range.hi}};
+  auto sum = [&](std::span<const BuildRef> part) {
+    HalfSums s;
+    BuildRef out;
+    for (const BuildRef& r : part)
+      for (int i = 0; i < 2; ++i)
+        if (remakeRef(r, halves[i], source, out)) {
+          s.bounds[i].extend(out.bounds);
+          s.active[i] += out.active;
+          ++s.count[i];
+        }
+    return s;
+  };
+  HalfSums s;
+  if (refs.size() < kParallelRefs) {
+    s = sum(refs);
+  } else {
+    s = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<size_t>(0, refs.size(), kGrain), HalfSums(),
+        [&](const tbb::blocked_range<size_t>& r, HalfSums acc) {
+          acc.merge(sum(refs.subspan(r.begin(), r.size())));
+          return acc;
+        },
+        [](HalfSums a, const HalfSums& b) {
+          a.merge(b);
+          return a;
+        });
+  }
+  TemporalSplit split;
+  split.time = time;
+  float cost = 0.0f, primCost = 0.0f;
+  for (int i = 0; i < 2; ++i)
+    if (s.active[i] > 0) {
+      const float p = mbsahArea(s.bounds[i]) * (halves[i].size() / range.size());
+      cost += p * float(s.active[i]);
+      primCost += p * leafBlocks(s.count[i], leafBlock);
+    }
+  split.cost = cost;
+  split.primCost = primCost;
+  return split;
+}
+
+void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, const TemporalSource& source,
+                   std::vector<BuildRef>& left, std::vector<BuildRef>& right) {
+  const TimeRange halves[2] = {{range.lo, time}, {time, range.hi}};
+  std::vector<BuildRef>* outs[2] = {&left, &right};
+  for (int i = 0; i < 2; ++i) {
+    std::vector<BuildRef>& out = *outs[i];
+    out.resize(refs.size());
+    std::vector<uint8_t> keep(refs.size(), 0);
+    auto make = [&](size_t b, size_t e) {
+      for (size_t k = b; k != e; ++k) keep[k] = remakeRef(refs[k], halves[i], source, out[k]);
+    };
+    if (refs.size() < kParallelRefs)
+      make(0, refs.size());
+    else
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kGrain),
+                        [&](const tbb::blocked_range<size_t>& r) { make(r.begin(), r.end()); });
+    size_t n = 0;  // serial compaction keeps the order
+    for (size_t k = 0; k < refs.size(); ++k)
+      if (keep[k]) out[n++] = out[k];
+    out.resize(n);
+  }
+}
+
+}  // namespace mbrt::detail

@@ -1,0 +1,230 @@
+// stbvh: the MBSAH on the STBVH paper's Fig. 3 1-D examples, time ranges of
+// spatial-temporal lanes, exact time boundaries and a deterministic parallel
+// build of a scene with many temporal splits. (Oracle agreement and
+// conservativeness: test_oracle.cpp, test_bvh.cpp.)
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+
+#include "bvh/binned_sah.h"
+#include "bvh/inspect.h"
+#include "bvh/temporal_split.h"
+#include "core/scene_context.h"
+#include "geometry/primitive_bounds.h"
+#include "mbrt/accel.h"
+#include "mbrt/scenes.h"
+
+using namespace mbrt;
+
+namespace {
+
+// A "1-D line" [a, b] on x: a triangle in z = 0 with y extent 1, so the
+// half-area of its box is exactly its length b - a (as in Fig. 3).
+// `path` gives the line's lower end at each step; the length stays `len`.
+void addLine(Scene& scene, const std::vector<float>& path, float len) {
+  std::vector<std::vector<Vec3f>> pos;
+  for (float a : path) pos.push_back({{a, 0, 0}, {a + len, 0, 0}, {a, 1, 0}});
+  scene.addTriangleMesh({{0, 1, 2}}, std::move(pos));
+}
+
+// The same TemporalSource the stbvh kind uses, over a test context.
+struct Timing final : detail::TemporalSource {
+  const detail::SceneContext& ctx;
+  explicit Timing(const detail::SceneContext& c) : ctx(c) {}
+  TimeRange stepRange(detail::PrimRef p, uint32_t& segments) const override {
+    segments = ctx.geometry(p.geomID).numSteps() - 1;
+    return ctx.geometry(p.geomID).timeRange();
+  }
+  bool remake(const detail::BuildRef& ref, TimeRange r, detail::BuildRef& out) const override {
+    out = ref;
+    out.bounds = detail::linearBounds(ctx, ref.prim, r);
+    out.active = detail::activeSegments(ctx, ref.prim, r);
+    out.range = r;
+    return true;
+  }
+};
+
+struct Costs {
+  float leaf, object, temporal;
+  bool temporalTried;
+};
+
+// Leaf, best object split and temporal split costs at the root (unnormalised).
+Costs rootCosts(const Scene& scene) {
+  BuildOptions o;
+  detail::BuildBudget budget;
+  detail::SceneContext ctx(scene, o, budget);
+  std::vector<detail::BuildRef> refs;
+  for (const detail::PrimRef& p : ctx.primitives()) {
+    detail::BuildRef r;
+    r.prim = p;
+    r.bounds = detail::linearBounds(ctx, p, {0.0f, 1.0f});
+    r.active = detail::activeSegments(ctx, p, {0.0f, 1.0f});
+    r.total = detail::totalSegments(ctx, p);
+    refs.push_back(r);
+  }
+  const detail::RefSetInfo info = detail::summarize(refs);
+  const detail::ObjectSplit object = detail::findObjectSplit(refs, info, 32, {0.0f, 1.0f});
+  Costs c;
+  c.leaf = detail::mbsahArea(info.bounds) * float(info.active);
+  c.object = object.cost;
+  const Timing timing(ctx);
+  float time = 0.0f;
+  c.temporalTried = detail::temporalSplitTime(refs, {0.0f, 1.0f}, timing, time);
+  EXPECT_TRUE(c.temporalTried);
+  EXPECT_EQ(time, 0.5f);  // centre, snapped to the step of the line with most segments
+  c.temporal = detail::evaluateTemporalSplit(refs, {0.0f, 1.0f}, time, timing).cost;
+  return c;
+}
+
+// Time ranges of the lanes of an stbvh over `scene` with geometry `geomID` below.
+std::vector<TimeRange> laneRanges(const Scene& scene, uint32_t geomID) {
+  BuildOptions o;
+  o.kind = AccelKind::Stbvh;
+  detail::BuildBudget budget;
+  detail::SceneContext ctx(scene, o, budget);
+  auto s = detail::makeStructure(ctx);
+  std::vector<TimeRange> all;
+  dynamic_cast<const detail::BvhInspect&>(*s).forEachLane([&](const detail::LaneView& v) {
+    for (const detail::PrimRef& p : v.below)
+      if (p.geomID == geomID) {
+        all.push_back(v.range);
+        break;
+      }
+  });
+  return all;
+}
+
+}  // namespace
+
+// Fig. 3, first example: two separated objects with different step counts,
+// moving down. The object split is tight, the temporal split loose: object.
+TEST(Mbsah, SeparatedObjectsTakeTheObjectSplit) {
+  Scene scene;
+  addLine(scene, {10.0f, 8.0f}, 1.0f);          // 1 segment
+  addLine(scene, {0.0f, -1.0f, -2.0f}, 1.0f);   // 2 segments
+  const Costs c = rootCosts(scene);
+  // Leaf: union [-1, 10] at t = 0.5 x 3 segments. Object: 1 x 1 + 1 x 2.
+  EXPECT_NEAR(c.leaf, 11.0f * 3.0f, 1e-3f);
+  EXPECT_NEAR(c.object, 3.0f, 1e-3f);
+  // Temporal at 0.5: the merged linear bounds of each half are 11 long at
+  // its centre (b0 and b1 merge separately), 2 segments, half the time each.
+  EXPECT_NEAR(c.temporal, 11.0f + 11.0f, 1e-3f);
+  EXPECT_LT(c.object, detail::kTemporalTry * c.leaf);         // temporal not even tried (θ)
+  EXPECT_LT(c.object, detail::kTemporalPenalty * c.temporal);  // and would lose (λ)
+  // The single-segment line was never split in time (only a root temporal split could).
+  const std::vector<TimeRange> ranges = laneRanges(scene, 0);
+  EXPECT_FALSE(ranges.empty());
+  for (const TimeRange& r : ranges) EXPECT_EQ(r, (TimeRange{0.0f, 1.0f}));
+}
+
+// Fig. 3, second example: curved motion (up, then back down). Linear bounds
+// over the whole shutter are loose for every object split; the temporal
+// split at the turning point is tight: temporal.
+TEST(Mbsah, CurvedMotionTakesTheTemporalSplit) {
+  Scene scene;
+  addLine(scene, {0.0f, 10.0f, 0.0f}, 1.0f);
+  addLine(scene, {1.5f, 11.5f, 1.5f}, 1.0f);
+  const Costs c = rootCosts(scene);
+  // Whole shutter: each line bounded by [a, a + 11]; the union [0, 12.5].
+  EXPECT_NEAR(c.leaf, 12.5f * 4.0f, 1e-3f);
+  EXPECT_NEAR(c.object, 11.0f * 2.0f * 2.0f, 1e-3f);
+  // Halves: at t = 0.25 and 0.75 the lines span [2.5, 5]: 2.5 x 2 segments x 1/2, twice.
+  EXPECT_NEAR(c.temporal, 5.0f, 1e-3f);
+  EXPECT_GE(c.object, detail::kTemporalTry * c.leaf);
+  EXPECT_LT(detail::kTemporalPenalty * c.temporal, c.object);
+  // In the tree (two more lines on the same paths, so that a leaf of pairs
+  // is not enough either): the root splits time at the turning point.
+  addLine(scene, {0.2f, 10.2f, 0.2f}, 1.0f);
+  addLine(scene, {1.3f, 11.3f, 1.3f}, 1.0f);
+  const std::vector<TimeRange> ranges = laneRanges(scene, 0);
+  bool left = false, right = false;
+  for (const TimeRange& r : ranges) {
+    left |= r.lo == 0.0f && r.hi == 0.5f;
+    right |= r.lo == 0.5f && r.hi == 1.0f;
+  }
+  EXPECT_TRUE(left && right);
+}
+
+// A ray exactly on an inner split time sees only the right-hand lanes; a ray
+// at time 1 still sees the last lanes; hits match brute force there.
+TEST(Stbvh, TimeBoundariesAreExact) {
+  Scene scene;
+  // Lines that jump far away between two steps: more than a leaf holds,
+  // overlapping (object splits cannot separate them), so time gets split.
+  for (int i = 0; i < 12; ++i) {
+    std::vector<float> path;
+    for (int k = 0; k <= 8; ++k) path.push_back((k < 5) == (i % 2 == 0) ? 0.1f * float(i) : 20.0f + 0.1f * float(i));
+    addLine(scene, path, 1.0f);
+  }
+  BuildOptions o, bo;
+  o.kind = AccelKind::Stbvh;
+  bo.kind = AccelKind::Brute;
+  auto st = Accel::build(scene, o);
+  auto brute = Accel::build(scene, bo);
+  EXPECT_GT(st->stats().references, 12u);  // temporal splits made copies
+  int hits = 0;
+  for (int k = 0; k <= 64; ++k)
+    for (float x : {0.5f, 20.5f, 10.0f})
+      for (float y : {0.01f, 0.3f}) {
+        const float t = float(k) / 64.0f;
+        Ray ray{{x, y, -1.0f}, 0.0f, {0, 0, 1}, kInf, t};
+        Hit h, hb;
+        const bool f = st->intersect(ray, h), fb = brute->intersect(ray, hb);
+        ASSERT_EQ(f, fb) << "time " << t << " x " << x;
+        ASSERT_EQ(st->occluded(ray), fb) << "time " << t;
+        if (f) {
+          ++hits;
+          EXPECT_EQ(h.t, hb.t);  // coplanar lines: ids may tie
+        }
+      }
+  EXPECT_GT(hits, 20);
+}
+
+// Many temporal splits (two turns of a rotating mesh): the build gives the
+// same bytes and SAH with 1 and 2 threads, and node time ranges nest.
+TEST(Stbvh, DeterministicWithTemporalSplits) {
+  const ProceduralScene ps = makeProceduralScene("rotate", 0.05, 3);
+  for (int width : {4, 8}) {
+    BuildOptions o;
+    o.kind = AccelKind::Stbvh;
+    o.branching = width;
+    std::vector<uint8_t> bytes[2];
+    double sah[2];
+    size_t timed[2];
+    for (int t = 0; t < 2; ++t) {
+      tbb::task_arena arena(t + 1);
+      arena.execute([&] {
+        detail::BuildBudget budget;
+        detail::SceneContext ctx(*ps.scene, o, budget);
+        auto s = detail::makeStructure(ctx);
+        const auto& inspect = dynamic_cast<const detail::BvhInspect&>(*s);
+        bytes[t] = inspect.bytes();
+        AccelStats st;
+        s->fillStats(st);
+        sah[t] = st.sahCost;
+        timed[t] = 0;
+        inspect.forEachLane([&](const detail::LaneView& v) {
+          timed[t] += !(v.range == TimeRange{0.0f, 1.0f});
+          EXPECT_LT(v.range.lo, v.range.hi);
+        });
+      });
+    }
+    EXPECT_EQ(bytes[0], bytes[1]) << "N=" << width;
+    EXPECT_EQ(sah[0], sah[1]) << "N=" << width;
+    EXPECT_GT(timed[0], 0u) << "rotation should make temporal splits";
+  }
+}
+
+// Temporal splits buy a lower SAH than bvh-interp on curved motion.
+TEST(Stbvh, BeatsInterpOnRotation) {
+  const ProceduralScene ps = makeProceduralScene("rotate", 0.05, 3);
+  BuildOptions o;
+  o.kind = AccelKind::BvhInterp;
+  const double interp = Accel::build(*ps.scene, o)->stats().sahCost;
+  o.kind = AccelKind::Stbvh;
+  const AccelStats st = Accel::build(*ps.scene, o)->stats();
+  EXPECT_LT(st.sahCost, 0.5 * interp);
+  EXPECT_GT(st.peakBuildBytes, st.bytes);
+}
