@@ -5,6 +5,7 @@
 #include "accel/bvh_interp.h"
 #include "accel/bvh_segments.h"
 #include "accel/frozen.h"
+#include "accel/mbkd.h"
 #include "core/scene_context.h"
 #ifdef MBRT_HAVE_EMBREE
 #include "embree/embree_structure.h"
@@ -42,7 +43,8 @@ std::optional<AccelKind> parseAccelKind(std::string_view name) {
 }
 
 std::vector<AccelKind> availableAccelKinds() {
-  std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen};
+  std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen,
+                                 AccelKind::Mbkd};
 #ifdef MBRT_HAVE_EMBREE
   kinds.push_back(AccelKind::Embree);
 #endif
@@ -61,6 +63,8 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
       return makeBvhSegments(context);
     case AccelKind::Frozen:
       return makeFrozen(context);
+    case AccelKind::Mbkd:
+      return makeMbkd(context);
 #ifdef MBRT_HAVE_EMBREE
     case AccelKind::Embree:
       return makeEmbree(context);

@@ -1,0 +1,84 @@
+#include "kd/kd_motion.h"
+
+#include <cmath>
+
+#include "geometry/primitive_bounds.h"
+
+namespace mbrt::detail {
+namespace {
+
+// Slack of the crossing computation: a relative one in space (the plane is
+// moved towards the tested side by a few ulp of the coordinates) and an
+// absolute one in time.
+constexpr float kSpaceSlack = 1.0f / (1 << 20);
+constexpr float kTimeSlack = 1.0f / (1 << 18);
+
+}  // namespace
+
+KdPaths KdPaths::fromContext(const SceneContext& ctx, std::span<const PrimRef> prims) {
+  KdPaths p;
+  p.range_.reserve(prims.size());
+  p.offset_.reserve(prims.size() + 1);
+  for (const PrimRef& ref : prims) {
+    const Geometry& g = ctx.geometry(ref.geomID);
+    const uint32_t n = g.numSteps();
+    for (uint32_t k = 0; k < n; ++k) p.keys_.push_back(widen(ctx.keyBox(ref, k)));
+    p.offset_.push_back(uint32_t(p.keys_.size()));
+    p.range_.push_back(g.timeRange());
+  }
+  return p;
+}
+
+KdPaths KdPaths::fromBoxes(std::span<const Box3f> boxes) {
+  KdPaths p;
+  p.keys_.assign(boxes.begin(), boxes.end());
+  p.offset_.resize(boxes.size() + 1);
+  for (size_t i = 0; i <= boxes.size(); ++i) p.offset_[i] = uint32_t(i);
+  p.range_.assign(boxes.size(), TimeRange{0.0f, 1.0f});
+  return p;
+}
+
+Box3f KdPaths::boxAt(uint32_t i, float t) const {
+  const uint32_t n = numKeys(i);
+  if (n == 1) return key(i, 0);
+  const TimeRange r = range_[i];
+  const float local = (std::clamp(t, r.lo, r.hi) - r.lo) * float(n - 1) / r.size();
+  const uint32_t k = uint32_t(std::clamp(std::floor(local), 0.0f, float(n - 2)));
+  return lerp(key(i, k), key(i, k + 1), local - float(k));
+}
+
+Box3f KdPaths::hull(uint32_t i) const {
+  Box3f b;
+  for (uint32_t k = 0; k < numKeys(i); ++k) b.extend(key(i, k));
+  return b;
+}
+
+TimeRange KdPaths::sideInterval(uint32_t i, int axis, float pos, bool left, float t0, float t1) const {
+  TimeRange out{kInf, -kInf};
+  forEachPiece(i, t0, t1, [&](float sa, float sb, const Box3f& A, const Box3f& B) {
+    // f(t) = s * (value(t) - pos) <= 0 is the wanted side (s = 1 left, -1 right).
+    const float va = left ? A.lower[axis] : A.upper[axis];
+    const float vb = left ? B.lower[axis] : B.upper[axis];
+    const float slack = std::max({std::fabs(va), std::fabs(vb), std::fabs(pos)}) * kSpaceSlack + 1e-30f;
+    const float s = left ? 1.0f : -1.0f;
+    const float fa = s * (va - pos) - slack, fb = s * (vb - pos) - slack;
+    float lo, hi;
+    if (fa <= 0.0f && fb <= 0.0f) {
+      lo = sa, hi = sb;
+    } else if (fa > 0.0f && fb > 0.0f) {
+      return;
+    } else {
+      const float tc = sa + (sb - sa) * (fa / (fa - fb));
+      if (fa <= 0.0f) {
+        lo = sa, hi = std::min(sb, tc + kTimeSlack);
+      } else {
+        lo = std::max(sa, tc - kTimeSlack), hi = sb;
+      }
+    }
+    out.lo = std::min(out.lo, lo);
+    out.hi = std::max(out.hi, hi);
+  });
+  return out;
+}
+
+}  // namespace mbrt::detail
