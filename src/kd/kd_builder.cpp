@@ -26,7 +26,13 @@ class Builder {
     float leafCost = 0.0f;
     if (depth < params_.maxDepth && !normal.empty()) {
       const auto t = Clock::now();
-      split = findKdSplit(paths_, normal, cell, params_.sah, leafCost);
+      if (params_.bpChoosesSplits && !bp.empty()) {
+        std::vector<KdBuildRef> all(normal);
+        all.insert(all.end(), bp.begin(), bp.end());
+        split = findKdSplit(paths_, all, cell, params_.sah, leafCost);
+      } else {
+        split = findKdSplit(paths_, normal, cell, params_.sah, leafCost);
+      }
       stats_.sahSeconds += since(t);
     }
     if (split.axis < 0 || !(split.cost < leafCost)) {
@@ -39,7 +45,8 @@ class Builder {
     auto t = Clock::now();
     for (const KdBuildRef& r : normal) {
       const Box3f placed = paths_.boxAt(r.prim, paths_.placementTime(r.prim));
-      const bool onLeft = placed.lower[axis] <= pos, onRight = placed.upper[axis] >= pos;
+      const bool onLeft = placed.lower[axis] < pos || (placed.lower[axis] == pos && placed.upper[axis] == pos);
+      const bool onRight = placed.upper[axis] > pos;
       const TimeRange il = paths_.sideInterval(r.prim, axis, pos, true, r.t0, r.t1);
       const TimeRange ir = paths_.sideInterval(r.prim, axis, pos, false, r.t0, r.t1);
       route(r, onLeft, il, nl, bl);

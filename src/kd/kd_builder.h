@@ -27,6 +27,9 @@ namespace mbrt::detail {
 struct KdBuildParams {
   KdSahParams sah;
   int maxDepth = 0;  // 0: 8 + 1.3 log2(N), at most kKdMaxDepth
+  // The paper lets only Normal references choose split planes; true lets
+  // the BP references weigh in too (with their time weights).
+  bool bpChoosesSplits = false;
 };
 
 inline constexpr int kKdMaxDepth = 60;

@@ -7,10 +7,7 @@
 namespace mbrt::detail {
 namespace {
 
-// Slack of the crossing computation: a relative one in space (the plane is
-// moved towards the tested side by a few ulp of the coordinates) and an
-// absolute one in time.
-constexpr float kSpaceSlack = 1.0f / (1 << 20);
+// Slack of the crossing times (the key boxes are already widened in space).
 constexpr float kTimeSlack = 1.0f / (1 << 18);
 
 }  // namespace
@@ -55,21 +52,26 @@ Box3f KdPaths::hull(uint32_t i) const {
 
 TimeRange KdPaths::sideInterval(uint32_t i, int axis, float pos, bool left, float t0, float t1) const {
   TimeRange out{kInf, -kInf};
+  // Strictly on the side; a box flat in the plane counts as left. A box
+  // only touching the plane is found from the other side, whose cell the
+  // traversal enters around the same ray distance.
+  auto inside = [&](const Box3f& b) {
+    return left ? (b.lower[axis] < pos || (b.lower[axis] == pos && b.upper[axis] == pos)) : b.upper[axis] > pos;
+  };
   forEachPiece(i, t0, t1, [&](float sa, float sb, const Box3f& A, const Box3f& B) {
-    // f(t) = s * (value(t) - pos) <= 0 is the wanted side (s = 1 left, -1 right).
-    const float va = left ? A.lower[axis] : A.upper[axis];
-    const float vb = left ? B.lower[axis] : B.upper[axis];
-    const float slack = std::max({std::fabs(va), std::fabs(vb), std::fabs(pos)}) * kSpaceSlack + 1e-30f;
-    const float s = left ? 1.0f : -1.0f;
-    const float fa = s * (va - pos) - slack, fb = s * (vb - pos) - slack;
+    const bool inA = inside(A), inB = inside(B);
     float lo, hi;
-    if (fa <= 0.0f && fb <= 0.0f) {
+    if (inA && inB) {
       lo = sa, hi = sb;
-    } else if (fa > 0.0f && fb > 0.0f) {
+    } else if (!inA && !inB) {
       return;
     } else {
-      const float tc = sa + (sb - sa) * (fa / (fa - fb));
-      if (fa <= 0.0f) {
+      // f(t) < 0 on the wanted side, linear over the piece.
+      const float fa = left ? A.lower[axis] - pos : pos - A.upper[axis];
+      const float fb = left ? B.lower[axis] - pos : pos - B.upper[axis];
+      const float f = fa - fb;
+      const float tc = f != 0.0f ? sa + (sb - sa) * std::clamp(fa / f, 0.0f, 1.0f) : (inA ? sb : sa);
+      if (inA) {
         lo = sa, hi = std::min(sb, tc + kTimeSlack);
       } else {
         lo = std::max(sa, tc - kTimeSlack), hi = sb;

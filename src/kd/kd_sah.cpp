@@ -104,9 +104,10 @@ void evalExact(std::span<const Ramp> lower, std::span<const Ramp> upper, double 
   size_t iL = 0, iU = 0;
   double cL = 0, sL = 0, cU = 0, sU = 0;
   for (float p : planes) {
-    // Left: lower <= p counts; right: upper < p leaves.
-    while (iL < L.size() && L[iL].pos <= p) cL += L[iL].c, sL += L[iL].s, ++iL;
-    while (iU < U.size() && U[iU].pos < p) cU += U[iU].c, sU += U[iU].s, ++iU;
+    // Left: lower < p counts; right: upper <= p leaves (a box ending at
+    // the plane stays on its side).
+    while (iL < L.size() && L[iL].pos < p) cL += L[iL].c, sL += L[iL].s, ++iL;
+    while (iU < U.size() && U[iU].pos <= p) cU += U[iU].c, sU += U[iU].s, ++iU;
     out.pos.push_back(p);
     out.left.push_back(std::clamp(cL + sL * p, 0.0, total));
     out.right.push_back(std::clamp(total - (cU + sU * p), 0.0, total));
