@@ -20,8 +20,9 @@ class Mbkd final : public Structure, public KdInspect {
         prims_.push_back(p);
     }
     ctx.budget().charge(prims_.size() * sizeof(PrimRef), "the kd-tree primitive list");
-    const KdPaths paths = KdPaths::fromContext(ctx, prims_);
-    ScopedCharge scratch(ctx.budget(), paths.size() * (sizeof(Box3f) * 2 + 12), "the kd-tree key boxes");
+    paths_ = KdPaths::fromContext(ctx, prims_);
+    const KdPaths& paths = paths_;
+    ctx.budget().charge(paths.bytes(), "the kd-tree key boxes");
     Box3f root;  // extended root cell: every primitive over the whole shutter
     for (uint32_t i = 0; i < paths.size(); ++i) root.extend(paths.hull(i));
     KdBuildParams params;
@@ -31,18 +32,21 @@ class Mbkd final : public Structure, public KdInspect {
   }
 
   bool intersect(RayQuery& ray, Hit& hit) const override {
+    if (leafBoxes_) return kdTraverse<false, false>(tree_, ctx_, prims_.data(), ray, &hit, nullptr, BoxFilter{paths_});
     return kdTraverse<false, false>(tree_, ctx_, prims_.data(), ray, &hit, nullptr);
   }
   bool occluded(RayQuery& ray) const override {
+    if (leafBoxes_) return kdTraverse<true, false>(tree_, ctx_, prims_.data(), ray, nullptr, nullptr, BoxFilter{paths_});
     return kdTraverse<true, false>(tree_, ctx_, prims_.data(), ray, nullptr, nullptr);
   }
   bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
+    if (leafBoxes_) return kdTraverse<false, true>(tree_, ctx_, prims_.data(), ray, &hit, &c, BoxFilter{paths_});
     return kdTraverse<false, true>(tree_, ctx_, prims_.data(), ray, &hit, &c);
   }
 
   void fillStats(AccelStats& s) const override {
     sums_.fill(s, sceneArea_);
-    s.bytes = tree_.bytes() + prims_.size() * sizeof(PrimRef);
+    s.bytes = tree_.bytes() + prims_.size() * sizeof(PrimRef) + (leafBoxes_ ? paths_.bytes() : 0);
   }
 
   void forEachLeaf(
@@ -94,8 +98,21 @@ class Mbkd final : public Structure, public KdInspect {
     });
   }
 
+  // The leaf test's box filter: the primitive's box at the ray's time.
+  struct BoxFilter {
+    static constexpr bool kActive = true;
+    const KdPaths& paths;
+    bool operator()(uint32_t prim, const RayQuery& ray) const { return rayHitsBox(ray, paths.boxAt(prim, ray.time)); }
+  };
+
   const SceneContext& ctx_;
   std::vector<PrimRef> prims_;
+  KdPaths paths_;
+  // Not in the paper: before its test, a reference's box at the ray's time
+  // (interpolated key boxes, as bvh-interp's nodes) must meet the ray. It
+  // turns the cell-wide time interval into a per-time box check; false is
+  // the paper's leaf (interval check only). See docs/mbkd.md.
+  bool leafBoxes_ = true;
   KdTree tree_;
   KdBuildStats stats_;
   SahSums sums_;

@@ -73,7 +73,7 @@ class Builder {
                        params_.sah.intersection * (wl * lc.halfArea() + wr * rc.halfArea()) / areaN;
     if (nl.empty() && bl.empty()) splitCost *= params_.sah.emptyBonus;
     if (nr.empty() && br.empty()) splitCost *= params_.sah.emptyBonus;
-    if (!(splitCost < params_.sah.intersection * (weight(normal) + weight(bp)))) {
+    if (!(splitCost < params_.splitTolerance * params_.sah.intersection * (weight(normal) + weight(bp)))) {
       makeLeaf(index, normal, bp);
       return;
     }

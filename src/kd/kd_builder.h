@@ -30,6 +30,10 @@ struct KdBuildParams {
   // The paper lets only Normal references choose split planes; true lets
   // the BP references weigh in too (with their time weights).
   bool bpChoosesSplits = false;
+  // Split while the children's cost (all references) is below this factor
+  // times the leaf's: above 1 lets a split that looks greedy-worse pay off
+  // deeper down.
+  float splitTolerance = 1.0f;
 };
 
 inline constexpr int kKdMaxDepth = 60;

@@ -26,6 +26,9 @@ class KdPaths {
   static KdPaths fromBoxes(std::span<const Box3f> boxes);
 
   size_t size() const { return range_.size(); }
+  size_t bytes() const {
+    return keys_.size() * sizeof(Box3f) + offset_.size() * sizeof(uint32_t) + range_.size() * sizeof(TimeRange);
+  }
   uint32_t numKeys(uint32_t i) const { return offset_[i + 1] - offset_[i]; }
   TimeRange range(uint32_t i) const { return range_[i]; }
   const Box3f& key(uint32_t i, uint32_t k) const { return keys_[offset_[i] + k]; }

@@ -52,11 +52,24 @@ struct KdMailbox {
   }
 };
 
+// Slab test of the ray's remaining [tnear, tfar] against a box.
+inline bool rayHitsBox(const RayQuery& ray, const Box3f& box) {
+  float tmin, tmax;
+  return clipToBox(ray, box, tmin, tmax);
+}
+
+// Accepts every reference that passed its time interval.
+struct KdNoRefFilter {
+  static constexpr bool kActive = false;
+  bool operator()(uint32_t, const RayQuery&) const { return true; }
+};
+
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
-// prims[i] is the primitive of reference index i.
-template <bool AnyHit, bool Count>
+// prims[i] is the primitive of reference index i. `filter(prim, ray)` may
+// reject a reference before its test (counted as a box test when active).
+template <bool AnyHit, bool Count, class Filter = KdNoRefFilter>
 bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prims, RayQuery& ray, Hit* hit,
-                TraversalCounters* counters) {
+                TraversalCounters* counters, const Filter& filter = {}) {
   if (tree.empty()) return false;
   float tmin, tmax;
   if (!clipToBox(ray, tree.root, tmin, tmax)) return false;
@@ -106,6 +119,10 @@ bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prim
     for (uint32_t i = 0, c = n.count(); i < c; ++i) {
       const KdLeafRef& r = refs[i];
       if (time < r.t0 || time > r.t1 || mailbox.seen(r.prim)) continue;
+      if constexpr (Filter::kActive) {
+        if constexpr (Count) ++counters->boxTests;
+        if (!filter(r.prim, ray)) continue;
+      }
       if constexpr (Count) ++counters->primitiveTests;
       if constexpr (AnyHit) {
         if (occludedPrimitive(ctx, prims[r.prim], ray)) return true;
