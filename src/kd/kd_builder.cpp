@@ -43,22 +43,23 @@ class Builder {
     const float pos = split.pos;
     std::vector<KdBuildRef> nl, nr, bl, br;
     auto t = Clock::now();
+    TimeRange winL[kKdMaxWindows], winR[kKdMaxWindows];
     for (const KdBuildRef& r : normal) {
       const Box3f placed = paths_.boxAt(r.prim, paths_.placementTime(r.prim));
       const bool onLeft = placed.lower[axis] < pos || (placed.lower[axis] == pos && placed.upper[axis] == pos);
       const bool onRight = placed.upper[axis] > pos;
-      const TimeRange il = paths_.sideInterval(r.prim, axis, pos, true, r.t0, r.t1);
-      const TimeRange ir = paths_.sideInterval(r.prim, axis, pos, false, r.t0, r.t1);
-      route(r, onLeft, il, nl, bl);
-      route(r, onRight, ir, nr, br);
+      const int nl_ = paths_.sideWindows(r.prim, axis, pos, true, r.t0, r.t1, winL);
+      const int nr_ = paths_.sideWindows(r.prim, axis, pos, false, r.t0, r.t1, winR);
+      route(r, onLeft, winL, nl_, nl, bl);
+      route(r, onRight, winR, nr_, nr, br);
     }
     stats_.duplicationSeconds += since(t);
     t = Clock::now();
     for (const KdBuildRef& r : bp) {
-      const TimeRange il = paths_.sideInterval(r.prim, axis, pos, true, r.t0, r.t1);
-      const TimeRange ir = paths_.sideInterval(r.prim, axis, pos, false, r.t0, r.t1);
-      if (il.lo <= il.hi) bl.push_back({r.prim, il.lo, il.hi}), ++stats_.propagations;
-      if (ir.lo <= ir.hi) br.push_back({r.prim, ir.lo, ir.hi}), ++stats_.propagations;
+      const int nl_ = paths_.sideWindows(r.prim, axis, pos, true, r.t0, r.t1, winL);
+      const int nr_ = paths_.sideWindows(r.prim, axis, pos, false, r.t0, r.t1, winR);
+      for (int k = 0; k < nl_; ++k) bl.push_back({r.prim, winL[k].lo, winL[k].hi}), ++stats_.propagations;
+      for (int k = 0; k < nr_; ++k) br.push_back({r.prim, winR[k].lo, winR[k].hi}), ++stats_.propagations;
     }
     stats_.propagationSeconds += since(t);
     // The plane was chosen by the Normal references alone; whether to split
@@ -88,18 +89,26 @@ class Builder {
   }
 
  private:
-  // One child of a Normal reference: placed there (Normal, its interval
-  // always holds the placement time) or duplicated (BP) when it reaches it.
-  void route(const KdBuildRef& r, bool placed, TimeRange side, std::vector<KdBuildRef>& normal,
+  // One child of a Normal reference. Placed there: the window holding the
+  // placement time stays Normal (a point when rounding left none). Every
+  // other window (the primitive leaves and comes back, or was placed on the
+  // other side) is duplicated into the child's BP set.
+  void route(const KdBuildRef& r, bool placed, const TimeRange* w, int n, std::vector<KdBuildRef>& normal,
              std::vector<KdBuildRef>& bp) {
+    const float tp = paths_.placementTime(r.prim);
+    int home = -1;
     if (placed) {
-      const float tp = paths_.placementTime(r.prim);
-      const float lo = side.lo <= side.hi ? std::min(side.lo, tp) : tp;
-      const float hi = side.lo <= side.hi ? std::max(side.hi, tp) : tp;
-      normal.push_back({r.prim, std::max(lo, r.t0), std::min(hi, r.t1)});
-    } else if (side.lo <= side.hi) {
-      bp.push_back({r.prim, side.lo, side.hi});
-      ++stats_.duplications;
+      for (int k = 0; k < n; ++k)
+        if (w[k].lo <= tp && tp <= w[k].hi) home = k;
+      if (home < 0) normal.push_back({r.prim, tp, tp});
+    }
+    for (int k = 0; k < n; ++k) {
+      if (k == home) {
+        normal.push_back({r.prim, w[k].lo, w[k].hi});
+      } else {
+        bp.push_back({r.prim, w[k].lo, w[k].hi});
+        ++stats_.duplications;
+      }
     }
   }
 

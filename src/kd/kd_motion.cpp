@@ -50,8 +50,8 @@ Box3f KdPaths::hull(uint32_t i) const {
   return b;
 }
 
-TimeRange KdPaths::sideInterval(uint32_t i, int axis, float pos, bool left, float t0, float t1) const {
-  TimeRange out{kInf, -kInf};
+int KdPaths::sideWindows(uint32_t i, int axis, float pos, bool left, float t0, float t1, TimeRange* out) const {
+  int n = 0;
   // Strictly on the side; a box flat in the plane counts as left. A box
   // only touching the plane is found from the other side, whose cell the
   // traversal enters around the same ray distance.
@@ -77,10 +77,20 @@ TimeRange KdPaths::sideInterval(uint32_t i, int axis, float pos, bool left, floa
         lo = std::max(sa, tc - kTimeSlack), hi = sb;
       }
     }
-    out.lo = std::min(out.lo, lo);
-    out.hi = std::max(out.hi, hi);
+    // Pieces come in time order: extend the last window or open a new one.
+    if (n > 0 && (lo <= out[n - 1].hi + kKdWindowGap || n == kKdMaxWindows)) {
+      out[n - 1].hi = std::max(out[n - 1].hi, hi);
+    } else {
+      out[n++] = {lo, hi};
+    }
   });
-  return out;
+  return n;
+}
+
+TimeRange KdPaths::sideInterval(uint32_t i, int axis, float pos, bool left, float t0, float t1) const {
+  TimeRange w[kKdMaxWindows];
+  const int n = sideWindows(i, axis, pos, left, t0, t1, w);
+  return n == 0 ? TimeRange{kInf, -kInf} : TimeRange{w[0].lo, w[n - 1].hi};
 }
 
 }  // namespace mbrt::detail

@@ -12,6 +12,9 @@
 
 namespace mbrt::detail {
 
+inline constexpr int kKdMaxWindows = 4;
+inline constexpr float kKdWindowGap = 1.0f / 32;
+
 // A primitive (index into the paths) during a closed time interval.
 struct KdBuildRef {
   uint32_t prim;
@@ -72,6 +75,12 @@ class KdPaths {
   // side of the plane `pos` on `axis`: lower <= pos (left) or upper >= pos
   // (right). Empty (lo > hi) when it never does.
   TimeRange sideInterval(uint32_t i, int axis, float pos, bool left, float t0, float t1) const;
+
+  // The same times as up to kKdMaxWindows disjoint, increasing intervals
+  // (a primitive that leaves the side and comes back); windows closer than
+  // kKdWindowGap are merged, and the last one absorbs any beyond the limit.
+  // Returns the count.
+  int sideWindows(uint32_t i, int axis, float pos, bool left, float t0, float t1, TimeRange* out) const;
 
  private:
   std::vector<Box3f> keys_;
