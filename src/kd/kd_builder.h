@@ -13,7 +13,12 @@
 //    interval -> duplicated into the child's BP set (the 8 cases of Fig. 3);
 //  - BP reaching that side -> propagated into the child's BP set (the six
 //    cases: left, right or both, each with its time interval).
-// A reference that never reaches a side is dropped there. The root cell
+// A reference that never reaches a side is dropped there; one that leaves a
+// side and comes back gets one reference per time window (kd_motion.h), the
+// window holding its placement time staying Normal. The plane is chosen by
+// the Normal references; whether to split at all counts every reference,
+// weighted by its window length (the paper counts Normal ones only, which
+// let BP references multiply without bound). The root cell
 // holds every primitive over the whole shutter. Without motion (one key per
 // primitive) there are no BP references: a static SAH kd-tree.
 #pragma once
