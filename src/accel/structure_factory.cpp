@@ -5,6 +5,7 @@
 #include "accel/bvh_interp.h"
 #include "accel/bvh_segments.h"
 #include "accel/frozen.h"
+#include "accel/mbkd.h"
 #include "accel/stbvh.h"
 #include "core/scene_context.h"
 #include "msbvh/msbvh.h"
@@ -45,7 +46,7 @@ std::optional<AccelKind> parseAccelKind(std::string_view name) {
 
 std::vector<AccelKind> availableAccelKinds() {
   std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen,
-                                AccelKind::Stbvh, AccelKind::Msbvh};
+                                AccelKind::Stbvh, AccelKind::Msbvh, AccelKind::Mbkd};
 #ifdef MBRT_HAVE_EMBREE
   kinds.push_back(AccelKind::Embree);
 #endif
@@ -68,6 +69,8 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
       return makeStbvh(context);
     case AccelKind::Msbvh:
       return makeMsbvh(context);
+    case AccelKind::Mbkd:
+      return makeMbkd(context);
 #ifdef MBRT_HAVE_EMBREE
     case AccelKind::Embree:
       return makeEmbree(context);

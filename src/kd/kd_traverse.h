@@ -1,0 +1,146 @@
+// Front-to-back kd-tree traversal with a (node, tmin, tmax) stack.
+//
+// Hits: a leaf's reference is tested against the whole remaining ray
+// [tnear, tfar] and a hit beyond the cell is kept as the current closest;
+// a cell is skipped only when it starts beyond tfar. That is the
+// "hits only inside the current cell" rule in its equivalent form: the
+// reported hit is never one a nearer cell could beat, and a duplicated
+// primitive tested once (mailbox) never needs a retest in a later cell.
+// References whose time interval excludes the ray's time are skipped
+// (MBKD §3.2). Child ranges overlap by a relative 2^-16 around the split
+// distance, so rounding never opens a gap between cells; rays parallel to
+// a plane (or lying in it) go to the side(s) they lie in.
+#pragma once
+
+#include <cmath>
+
+#include "geometry/primitive_intersect.h"
+#include "kd/kd_node.h"
+
+namespace mbrt::detail {
+
+inline constexpr float kKdSplitSlack = 1.0f / (1 << 16);
+
+// Clips [tnear, tfar] to a box; false when the ray misses it. NaN slab
+// distances (origin on a face, direction parallel) leave the range as is.
+inline bool clipToBox(const RayQuery& ray, const Box3f& box, float& tmin, float& tmax) {
+  tmin = ray.tnear;
+  tmax = ray.tfar;
+  for (int a = 0; a < 3; ++a) {
+    float t0 = (box.lower[a] - ray.org[a]) * ray.rdir[a];
+    float t1 = (box.upper[a] - ray.org[a]) * ray.rdir[a];
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > tmin) tmin = t0;
+    t1 *= 1.0f + kKdSplitSlack;
+    if (t1 < tmax) tmax = t1;
+  }
+  return tmin <= tmax;
+}
+
+// A tiny direct-mapped mailbox of primitives already tested by this ray.
+struct KdMailbox {
+  uint32_t slot[16];
+  KdMailbox() {
+    for (uint32_t& s : slot) s = ~0u;
+  }
+  // True when `prim` was tested already; records it otherwise.
+  bool seen(uint32_t prim) {
+    uint32_t& s = slot[prim & 15u];
+    if (s == prim) return true;
+    s = prim;
+    return false;
+  }
+};
+
+// Slab test of the ray's remaining [tnear, tfar] against a box.
+inline bool rayHitsBox(const RayQuery& ray, const Box3f& box) {
+  float tmin, tmax;
+  return clipToBox(ray, box, tmin, tmax);
+}
+
+// Accepts every reference that passed its time interval.
+struct KdNoRefFilter {
+  static constexpr bool kActive = false;
+  bool operator()(uint32_t, const RayQuery&) const { return true; }
+};
+
+// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
+// prims[i] is the primitive of reference index i. `filter(prim, ray)` may
+// reject a reference before its test (counted as a box test when active).
+template <bool AnyHit, bool Count, class Filter = KdNoRefFilter>
+bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prims, RayQuery& ray, Hit* hit,
+                TraversalCounters* counters, const Filter& filter = {}) {
+  if (tree.empty()) return false;
+  float tmin, tmax;
+  if (!clipToBox(ray, tree.root, tmin, tmax)) return false;
+  struct Item {
+    uint32_t node;
+    float tmin, tmax;
+  };
+  Item stack[64];
+  int sp = 0;
+  KdMailbox mailbox;
+  bool found = false;
+  uint32_t node = 0;
+  const float time = ray.time;
+  while (true) {
+    const KdNode& n = tree.nodes[node];
+    if constexpr (Count) {
+      ++counters->nodesVisited;
+      ++counters->boxTests;
+    }
+    if (!n.isLeaf()) {
+      const int a = n.axis();
+      const float p = n.split();
+      const float o = ray.org[a];
+      const float tsplit = (p - o) * ray.rdir[a];
+      const bool belowFirst = o < p || (o == p && ray.dir[a] <= 0.0f);
+      const uint32_t left = node + 1, right = n.rightChild();
+      const uint32_t nearChild = belowFirst ? left : right, farChild = belowFirst ? right : left;
+      if (std::isnan(tsplit)) {  // in the plane: both sides
+        stack[sp++] = {farChild, tmin, tmax};
+        node = nearChild;
+        continue;
+      }
+      const float lo = tsplit * (1.0f - kKdSplitSlack), hi = tsplit * (1.0f + kKdSplitSlack);
+      if (!(tsplit > 0.0f) || lo > tmax) {
+        node = nearChild;
+      } else if (hi < tmin) {
+        node = farChild;
+      } else {
+        stack[sp++] = {farChild, std::max(tmin, lo), tmax};
+        node = nearChild;
+        tmax = std::min(tmax, hi);
+      }
+      continue;
+    }
+    // Leaf.
+    const KdLeafRef* refs = tree.refs.data() + n.first();
+    for (uint32_t i = 0, c = n.count(); i < c; ++i) {
+      const KdLeafRef& r = refs[i];
+      if (time < r.t0 || time > r.t1 || mailbox.seen(r.prim)) continue;
+      if constexpr (Filter::kActive) {
+        if constexpr (Count) ++counters->boxTests;
+        if (!filter(r.prim, ray)) continue;
+      }
+      if constexpr (Count) ++counters->primitiveTests;
+      if constexpr (AnyHit) {
+        if (occludedPrimitive(ctx, prims[r.prim], ray)) return true;
+      } else {
+        found |= intersectPrimitive(ctx, prims[r.prim], ray, *hit, Count ? counters : nullptr);
+      }
+    }
+    // Next cell that can still hold a closer hit.
+    while (true) {
+      if (sp == 0) return found;
+      const Item& it = stack[--sp];
+      if (!AnyHit && it.tmin > ray.tfar) continue;
+      node = it.node;
+      tmin = it.tmin;
+      tmax = std::min(it.tmax, ray.tfar * (1.0f + kKdSplitSlack));
+      break;
+    }
+  }
+}
+
+}  // namespace mbrt::detail
