@@ -104,3 +104,17 @@ set_tests_properties(cli.error_render_integrator PROPERTIES
   PASS_REGULAR_EXPRESSION "mbrt: error: unknown integrator 'nope' \\(available: normals, ao, path")
 add_test(NAME cli.error_render_shutter COMMAND mbrt_cli render --scene demo --shutter 0.5,0.2)
 set_tests_properties(cli.error_render_shutter PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*shutter")
+# `mbrt bench`: rays from a file, and a real scene by name when ../shared is there.
+add_test(NAME cli.bench_rays_file_make
+         COMMAND mbrt_cli trace --scene translate --size 0.005 --generate 2000 --rays ${MBRT_CLI_OUT}/bench_rays.bin)
+add_test(NAME cli.bench_rays_file
+         COMMAND mbrt_cli bench --quick --scene translate --size 0.005 --accel bvh-interp,stbvh --repeats 1
+                 --frozen-times 2 --rays-file ${MBRT_CLI_OUT}/bench_rays.bin)
+set_tests_properties(cli.bench_rays_file PROPERTIES DEPENDS cli.bench_rays_file_make
+  PASS_REGULAR_EXPRESSION "translate \\([0-9]+ primitives, 2000 rays\\).*\\| stbvh \\|")
+if(EXISTS "${PROJECT_SOURCE_DIR}/../shared/scenes/wooddoll_utah")
+  add_test(NAME cli.bench_real_scene
+           COMMAND mbrt_cli bench --quick --scene wooddoll --accel bvh-interp --repeats 1 --rays 16 --frozen-times 2)
+  set_tests_properties(cli.bench_real_scene PROPERTIES
+    PASS_REGULAR_EXPRESSION "wooddoll \\(6658 primitives")
+endif()

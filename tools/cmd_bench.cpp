@@ -8,7 +8,9 @@
 #include <sstream>
 
 #include "bench/bench.h"
+#include "bench_scenes.h"
 #include "commands.h"
+#include "mbrt/ray_file.h"
 #include "mbrt/loaders.h"
 
 namespace mbrt::tools {
@@ -42,6 +44,7 @@ struct BenchArgs {
   int frozenTimes = 0;
   int repeats = 0;
   double budget = 0.0;
+  std::string rayFile;
   uint64_t seed = 1;
 };
 
@@ -58,6 +61,8 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_option("--frozen-times", args->frozenTimes, "K, the frozen times (default 16, --quick 8)");
   cmd->add_option("--repeats", args->repeats, "Median of this many builds and passes (default 3)");
   cmd->add_option("--seed", args->seed, "Scene and ray seed");
+  cmd->add_option("--rays-file", args->rayFile,
+                  "Trace these rays (mbrt trace format) as the main set of the one scene given");
   cmd->add_option("--budget", args->budget,
                   "Seconds all passes of one structure over one ray set may take (default 20, --quick 5); "
                   "slower structures are timed on a prefix of the rays");
@@ -76,25 +81,35 @@ void registerBenchCommand(CLI::App& app) {
     o.accels = splitList(args->accels);
     o.commit = gitCommit();
     o.progress = stderr;
-    // Names that are not built-in scenes are loaded like --scene elsewhere
-    // (files, sequences, JSON scene files) with their default options.
+    if (!args->rayFile.empty()) o.rays = readRays(args->rayFile);
+    // The default suite: the procedural scenes, plus the real ones when
+    // ../shared is present. Other names are files, sequences or JSON scene
+    // files, loaded like --scene elsewhere.
     const auto builtIn = proceduralSceneNames();
-    bool files = false;
-    for (const std::string& n : o.scenes) files = files || std::find(builtIn.begin(), builtIn.end(), n) == builtIn.end();
-    bench::Report report;
-    if (files) {
-      std::vector<ProceduralScene> scenes;
-      for (const std::string& n : o.scenes) {
+    const auto real = realBenchSceneNames();
+    std::vector<std::string> names = o.scenes;
+    if (names.empty()) {
+      names = builtIn;
+      if (sharedScenesDir())
+        names.insert(names.end(), real.begin(), real.end());
+      else
+        std::fprintf(stderr, "mbrt bench: ../shared/scenes is absent: real scenes skipped\n");
+    }
+    std::vector<ProceduralScene> scenes;
+    for (const std::string& n : names) {
+      if (std::find(builtIn.begin(), builtIn.end(), n) != builtIn.end()) {
+        scenes.push_back(makeProceduralScene(n, o.size, o.seed));
+      } else if (std::find(real.begin(), real.end(), n) != real.end()) {
+        scenes.push_back(loadRealBenchScene(n));
+      } else {
         LoadOptions lo;
         lo.size = o.size;
         lo.seed = o.seed;
         SceneDescription d = loadSceneSpec(n, lo);
         scenes.push_back({d.name, d.scene, d.camera.keys.front()});
       }
-      report = bench::run(o, scenes);
-    } else {
-      report = bench::run(o);
     }
+    const bench::Report report = bench::run(o, scenes);
     std::cout << bench::toMarkdown(report);
     auto write = [](const std::string& path, const std::string& text) {
       std::ofstream f(path);

@@ -280,6 +280,8 @@ Report run(const Options& options) {
 }
 
 Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
+  if (!options.rays.empty() && scenes.size() != 1)
+    throw Error("rays from a file go with exactly one scene (got " + std::to_string(scenes.size()) + ")");
   Report report;
   report.cpu = cpuName();
   report.threads = tbb::info::default_concurrency();
@@ -309,7 +311,8 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
       }
     }
     const uint64_t seed = options.seed ^ hashName(ps.name);
-    const std::vector<Ray> rays = makeRays(ps, *reference, options.width, options.height, seed);
+    const std::vector<Ray> rays =
+        options.rays.empty() ? makeRays(ps, *reference, options.width, options.height, seed) : options.rays;
     const std::vector<Ray> frozenRays = makeRays(ps, *reference, options.width, options.height, seed, &frozenTimes);
     reference.reset();
 

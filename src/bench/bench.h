@@ -55,6 +55,9 @@ struct Options {
   std::string commit = "unknown";
   std::FILE* progress = nullptr;    // a progress line (stderr), or none
   std::vector<Candidate> extra;     // more structures (tests inject wrong ones)
+  // Rays of the main set, instead of generated ones (one scene only; the
+  // frozen set is still generated).
+  std::vector<Ray> rays;
 
   // --quick: small scenes and ray sets, the whole suite in minutes.
   void makeQuick();
