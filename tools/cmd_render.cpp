@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,12 @@
 
 namespace mbrt::tools {
 namespace {
+
+// Inputs whose --shutter is in their own time units (seconds of a clip).
+bool hasOwnClock(const std::string& spec) {
+  const std::string ext = std::filesystem::path(spec).extension().string();
+  return ext == ".gltf" || ext == ".glb" || ext == ".json";
+}
 
 struct RenderArgs {
   std::string positionalScene;
@@ -115,6 +122,19 @@ void run(RenderArgs& args) {
   const int threads = arena->max_concurrency();
 
   LoadedScene loaded = loadScene(args.scene);
+  // --shutter (a shared scene option) is in seconds of the clip for inputs
+  // that have a clock (glTF, JSON scene files); for the others it is the
+  // part A,B of the normalized shutter [0,1] the camera sees.
+  if (!args.scene.shutter.empty() && !hasOwnClock(args.scene.scene)) {
+    float a = 0, b = 0;
+    char comma = 0;
+    std::stringstream ss(args.scene.shutter);
+    if (!(ss >> a >> comma >> b) || comma != ',' || !(a >= 0.0f && b <= 1.0f && a <= b))
+      throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 for '" + args.scene.scene +
+                       "' (the part of the normalized shutter to render), got '" + args.scene.shutter + "'");
+    opt.shutterOpen = a;
+    opt.shutterClose = b;
+  }
   if (args.aperture >= 0.0f) loaded.camera.apertureRadius = args.aperture;
   if (args.focus >= 0.0f) loaded.camera.focusDistance = args.focus;
   std::printf("scene   %s\n", describeScene(loaded).c_str());
