@@ -335,6 +335,7 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
     const std::vector<size_t> countFrozenIdx = sampleIndices(frozenRays.size(), options.countSample);
 
     std::vector<std::vector<Hit>> allHits;  // per result: main-set hits (for the embree check)
+    std::vector<size_t> strides;            // per result: which of them were traced (i % stride == 0)
     const size_t firstResult = report.results.size();
     for (const Candidate& cand : candidates) {
       const std::string ctag = tag + cand.name + ": ";
@@ -367,39 +368,48 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
       res.peakBuildBytes = st.peakBuildBytes;
       if (std::isfinite(st.sahCost)) res.sah = st.sahCost;
 
-      // Times passes over `set` (or over the prefix that fits the budget,
-      // estimated from a probe pass); `hits` gets the prefix's hits, the rest
-      // stay misses and are left out of the agreement checks.
+      // Times passes over `set`, or over every stride-th ray when the whole
+      // set would not fit the time budget (estimated from a probe over the
+      // whole image: rays are in pixel order, so a prefix would be all sky).
+      // `hits` gets the traced rays' hits; returns the stride.
       auto traceSet = [&](const std::vector<Ray>& set, std::vector<Hit>& hits, double& st1, double& mt) {
         hits.assign(set.size(), Hit());
-        const size_t probe = std::min(set.size(), options.minTimedRays);
+        auto every = [&](size_t stride) {
+          std::vector<Ray> out;
+          for (size_t i = 0; i < set.size(); i += stride) out.push_back(set[i]);
+          return out;
+        };
+        const size_t probeStride = std::max<size_t>(1, set.size() / std::max<size_t>(1, options.minTimedRays));
+        const std::vector<Ray> probe = every(probeStride);
+        std::vector<Hit> probeHits(probe.size());
         const auto ps0 = Clock::now();
-        target->trace(std::span(set).first(probe), std::span(hits).first(probe));
-        const double perRay = seconds(ps0) / double(std::max<size_t>(probe, 1));
+        target->trace(probe, probeHits);
+        const double perRay = seconds(ps0) / double(std::max<size_t>(probe.size(), 1));
         const double passes = double(std::max(1, options.repeats)) * (st1 < 0 ? 1.0 : 1.0 + double(report.threads));
-        size_t n = set.size();
-        if (perRay * double(n) * passes > options.passBudgetSeconds)
-          n = std::clamp(size_t(options.passBudgetSeconds / (perRay * passes)), probe, set.size());
-        const std::span<const Ray> timed = std::span(set).first(n);
-        const std::span<Hit> timedHits = std::span(hits).first(n);
+        size_t stride = 1;
+        if (perRay * double(set.size()) * passes > options.passBudgetSeconds)
+          stride = std::min(probeStride, size_t(std::ceil(perRay * double(set.size()) * passes / options.passBudgetSeconds)));
+        const std::vector<Ray> timed = stride == 1 ? set : every(stride);
+        std::vector<Hit> timedHits(timed.size());
         progress(ctag + "tracing, 1 thread");
         tbb::task_arena one(1);
         const double tst =
             st1 < 0 ? 0.0 : timedMedian(options.repeats, [&] { one.execute([&] { target->trace(timed, timedHits); }); });
         progress(ctag + "tracing, all threads");
         const double tmt = timedMedian(options.repeats, [&] { target->trace(timed, timedHits); });
-        if (st1 >= 0) st1 = tst > 0 ? double(n) / tst * 1e-6 : 0.0;
-        mt = tmt > 0 ? double(n) / tmt * 1e-6 : 0.0;
-        return n;
+        for (size_t k = 0; k < timed.size(); ++k) hits[k * stride] = timedHits[k];
+        if (st1 >= 0) st1 = tst > 0 ? double(timed.size()) / tst * 1e-6 : 0.0;
+        mt = tmt > 0 ? double(timed.size()) / tmt * 1e-6 : 0.0;
+        return stride;
       };
       // Agreement with brute on the sampled rays that were traced.
       size_t checked = 0;
       auto bruteMismatches = [&](const std::vector<size_t>& idx, const std::vector<Hit>& ref,
-                                 const std::vector<Hit>& hits, size_t traced) {
+                                 const std::vector<Hit>& hits, size_t stride) {
         size_t m = 0;
         checked = 0;
         for (size_t j = 0; j < idx.size(); ++j) {
-          if (idx[j] >= traced) continue;
+          if (idx[j] % stride != 0) continue;
           ++checked;
           m += !hitsAgree(ref[j], hits[idx[j]]);
         }
@@ -409,39 +419,43 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
       // The frozen set, traced by every structure.
       std::vector<Hit> frozenHits;
       double noSt = -1.0;
-      res.frozenSet.timedRays = traceSet(frozenRays, frozenHits, noSt, res.frozenSet.mraysMt);
+      const size_t frozenStride = traceSet(frozenRays, frozenHits, noSt, res.frozenSet.mraysMt);
+      res.frozenSet.timedRays = (frozenRays.size() + frozenStride - 1) / frozenStride;
       res.frozenSet.rays = frozenRays.size();
       progress(ctag + "counting");
       countedFigures(*target, frozenRays, countFrozenIdx, res.frozenSet.stepsMean, nullptr, nullptr,
                      res.frozenSet.isectsMean, nullptr);
       res.frozenSet.mismatches =
-          bruteMismatches(bruteFrozenIdx, bruteFrozenHits, frozenHits, res.frozenSet.timedRays);
+          bruteMismatches(bruteFrozenIdx, bruteFrozenHits, frozenHits, frozenStride);
 
       std::vector<Hit> hits;
       if (cand.frozen) {
         // Its job is the frozen set: the row reports it.
         double st1 = 0.0;
-        res.timedRays = traceSet(frozenRays, hits, st1, res.mraysMt);
+        const size_t stride = traceSet(frozenRays, hits, st1, res.mraysMt);
+        res.timedRays = (frozenRays.size() + stride - 1) / stride;
         res.mraysSt = st1;
         res.rays = frozenRays.size();
         res.stepsMean = res.frozenSet.stepsMean;
         res.isectsMean = res.frozenSet.isectsMean;
         countedFigures(*target, frozenRays, countFrozenIdx, res.stepsMean, &res.stepsMax, &res.boxTestsMean,
                        res.isectsMean, &res.isectsMax);
-        res.mismatchesBrute = bruteMismatches(bruteFrozenIdx, bruteFrozenHits, hits, res.timedRays);
+        res.mismatchesBrute = bruteMismatches(bruteFrozenIdx, bruteFrozenHits, hits, stride);
         res.bruteChecked = checked;
         hits.clear();
+        strides.push_back(1);
       } else {
         double st1 = 0.0;
-        res.timedRays = traceSet(rays, hits, st1, res.mraysMt);
+        const size_t stride = traceSet(rays, hits, st1, res.mraysMt);
+        res.timedRays = (rays.size() + stride - 1) / stride;
+        strides.push_back(stride);
         res.mraysSt = st1;
         res.rays = rays.size();
         progress(ctag + "counting");
         countedFigures(*target, rays, countIdx, res.stepsMean, &res.stepsMax, &res.boxTestsMean, res.isectsMean,
                        &res.isectsMax);
-        res.mismatchesBrute = bruteMismatches(bruteIdx, bruteHits, hits, res.timedRays);
+        res.mismatchesBrute = bruteMismatches(bruteIdx, bruteHits, hits, stride);
         res.bruteChecked = checked;
-        hits.resize(res.timedRays);
       }
       res.mismatches = res.mismatchesBrute;
       report.results.push_back(std::move(res));
@@ -463,7 +477,9 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
         const std::vector<Hit>& h = allHits[r - firstResult];
         if (&res == embree || h.empty()) continue;
         size_t m = 0;
-        for (size_t i = 0; i < std::min(h.size(), eh.size()); ++i) m += !hitsAgree(eh[i], h[i]);
+        const size_t sa = strides[r - firstResult], sb = strides[embreeAt];
+        for (size_t i = 0; i < std::min(h.size(), eh.size()); ++i)
+          if (i % sa == 0 && i % sb == 0) m += !hitsAgree(eh[i], h[i]);
         res.mismatchesEmbree = m;
         res.mismatches += m;
       }

@@ -47,8 +47,8 @@ struct Options {
   int repeats = 3;                  // median of this many passes / builds
   double singleBuildSeconds = 3.0;  // builds slower than this are timed once
   // A structure whose passes over the whole ray set would take longer than
-  // this (all repeats together) is timed on a prefix of the set that fits
-  // (at least minTimedRays); its row says how many rays were timed.
+  // this (all repeats together) is timed on every k-th ray of the set, k
+  // chosen to fit (at least minTimedRays); its row says how many were timed.
   double passBudgetSeconds = 20.0;
   size_t minTimedRays = 4096;
   uint64_t seed = 1;
@@ -81,7 +81,7 @@ struct Result {
   std::optional<double> stepsMean, stepsMax, boxTestsMean, isectsMean;
   std::optional<uint64_t> isectsMax;
   size_t rays = 0;
-  size_t timedRays = 0;  // rays of the timed passes (a prefix of `rays` when the budget cut it)
+  size_t timedRays = 0;  // rays of the timed passes (every k-th of `rays` when the budget cut it)
   double mraysSt = 0.0, mraysMt = 0.0;
   size_t mismatches = 0;                   // vs brute (sample) + vs embree (all)
   size_t mismatchesBrute = 0, bruteChecked = 0;

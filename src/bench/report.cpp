@@ -101,8 +101,8 @@ std::string toMarkdown(const Report& report) {
     }
     for (const Result& r : report.results)
       if (r.scene == scene && r.timedRays < r.rays)
-        out << "\n`" << r.accel << "` was timed on the first " << r.timedRays << " of " << r.rays
-            << " rays (its full passes would exceed the time budget); mismatches are over those.\n";
+        out << "\n`" << r.accel << "` was timed on " << r.timedRays << " of the " << r.rays
+            << " rays, evenly spread over the set (its full passes would exceed the time budget); mismatches are over those.\n";
   }
   if (!report.notes.empty()) {
     out << "\nNotes:\n";
