@@ -127,7 +127,8 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     uint32_t pieces = 0;
     const auto tris = geo.triangles();
     connectedPieces(tris, uint32_t(geo.vertices(0).count), pieces);
-    if (pieces > params.maxClusters) return false;
+    // Many pieces (unwelded seams, debris): start from one cluster instead.
+    if (pieces > params.maxClusters) params.startFromPieces = false;
     const auto keys = geometryKeys(geo);
     Decomposition d = decomposeMotion(tris, keys, params);
     stats_.decomposedMeshes++;

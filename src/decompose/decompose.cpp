@@ -12,6 +12,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Normal tips do not move affinely under shear or non-uniform scale: they
+// only pin directions the vertices leave free (flat clusters, one triangle).
+constexpr double kTipWeight = 1e-4;
+
 // The three vertices and the normal tip of a triangle in one pose.
 inline void triPoints(const Triangle& t, const std::vector<Vec3f>& x, Vec3d out[4]) {
   const Vec3d a = toD(x[t.v0]), b = toD(x[t.v1]), c = toD(x[t.v2]);
@@ -153,7 +157,8 @@ class Decomposer {
         const Vec3d* p = &restPts_[size_t(j) * 4];
         const Vec3d* x = &keyPts_[size_t(j) * nk * 4];
         for (size_t i = 0; i < nk; ++i)
-          for (int v = 0; v < 4; ++v) m[size_t(assign_[j]) * nk + i].add(p[v], x[i * 4 + v]);
+          for (int v = 0; v < 4; ++v)
+            m[size_t(assign_[j]) * nk + i].add(p[v], x[i * 4 + v], v == 3 ? kTipWeight : 1.0);
       }
     });
     std::vector<FitMoments> sum(size_t(C_) * nk);
