@@ -5,6 +5,7 @@
 #include "accel/bvh_interp.h"
 #include "accel/bvh_segments.h"
 #include "accel/frozen.h"
+#include "accel/fuzzykd.h"
 #include "accel/mbkd.h"
 #include "accel/stbvh.h"
 #include "core/scene_context.h"
@@ -46,7 +47,7 @@ std::optional<AccelKind> parseAccelKind(std::string_view name) {
 
 std::vector<AccelKind> availableAccelKinds() {
   std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen,
-                                AccelKind::Stbvh, AccelKind::Msbvh, AccelKind::Mbkd};
+                                AccelKind::Stbvh, AccelKind::Msbvh, AccelKind::Mbkd, AccelKind::FuzzyKd};
 #ifdef MBRT_HAVE_EMBREE
   kinds.push_back(AccelKind::Embree);
 #endif
@@ -71,6 +72,8 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
       return makeMsbvh(context);
     case AccelKind::Mbkd:
       return makeMbkd(context);
+    case AccelKind::FuzzyKd:
+      return makeFuzzyKd(context);
 #ifdef MBRT_HAVE_EMBREE
     case AccelKind::Embree:
       return makeEmbree(context);

@@ -1,0 +1,257 @@
+// fuzzykd: oracle agreement at key times and between keys (skinned, a mesh
+// turning fast between keys, the Wood Doll and CesiumMan when ../shared is
+// present) and the paper's Table 1 / Fig. 7 figures against a static SAH
+// kd-tree built per frame.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include "accel/fuzzykd.h"
+#include "core/scene_context.h"
+#include "geometry/primitive_bounds.h"
+#include "kd/kd_builder.h"
+#include "kd/kd_traverse.h"
+#include "mbrt/loaders.h"
+#include "mbrt/scenes.h"
+#include "oracle.h"
+#include "test_util.h"
+
+using namespace mbrt;
+namespace fs = std::filesystem;
+
+namespace {
+
+Box3f sceneBox(const Scene& scene) {
+  Box3f b;
+  for (uint32_t g = 0; g < scene.numGeometries(); ++g) {
+    const Geometry& geo = scene.geometry(g);
+    if (geo.type() == GeometryType::Instance) continue;
+    for (uint32_t k = 0; k < geo.numSteps(); ++k)
+      for (size_t v = 0; v < geo.vertices(k).count; ++v) b.extend(geo.vertexAtStep(k, uint32_t(v)));
+  }
+  return b;
+}
+
+// Rays from around the scene at random surface points (and a few random
+// ones through its box) at `time`.
+std::vector<Ray> aimedRays(const Scene& scene, std::mt19937& rng, size_t count, float time, size_t first = 0) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const Box3f b = sceneBox(scene);
+  const Vec3f c = (b.lower + b.upper) * 0.5f;
+  const float r = length(b.upper - b.lower);
+  std::vector<Ray> rays;
+  for (size_t i = 0; i < count; ++i) {
+    Ray ray;
+    Vec3f d{u(rng), u(rng), u(rng)};
+    if (length(d) < 1e-3f) d = {1, 0, 0};
+    ray.org = c + normalize(d) * r;
+    Vec3f target = c + Vec3f{u(rng), u(rng), u(rng)} * (0.5f * r);
+    if ((first + i) % 4 != 0) test::randomSurfacePoint(scene, time, rng, target);
+    ray.dir = target - ray.org;
+    ray.time = time;
+    rays.push_back(ray);
+  }
+  return rays;
+}
+
+std::vector<float> keyTimes(const Scene& scene) { return test::stepTimes(scene); }
+
+void expectOracle(const Scene& scene, size_t perKey, size_t random, uint64_t seed) {
+  auto brute = test::buildKind(scene, AccelKind::Brute);
+  auto fuzzy = test::buildKind(scene, AccelKind::FuzzyKd);
+  std::mt19937 rng{uint32_t(seed)};
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<Ray> rays;
+  for (float t : keyTimes(scene)) {
+    auto r = aimedRays(scene, rng, perKey, t);
+    rays.insert(rays.end(), r.begin(), r.end());
+  }
+  for (size_t i = 0; i < random; ++i) {
+    auto r = aimedRays(scene, rng, 1, u(rng), i);
+    rays.insert(rays.end(), r.begin(), r.end());
+  }
+  const auto rep = test::compareWithOracle(*brute, *fuzzy, rays);
+  EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
+  EXPECT_EQ(rep.anyWrong, 0u);
+  EXPECT_GT(rep.hits, rep.rays / 3);
+}
+
+std::shared_ptr<Scene> sharedScene(const std::string& spec) {
+  const fs::path dir = fs::path(MBRT_SHARED_DIR) / "scenes";
+  if (!fs::exists(dir)) return nullptr;
+  return loadSceneSpec((dir / spec).string()).scene;
+}
+
+// A mesh turning 90 degrees between keys: the local residual between keys
+// is far from linear; the pad and the sub-samples must cover it.
+std::shared_ptr<Scene> fastTurningScene() {
+  auto scene = std::make_shared<Scene>();
+  std::vector<Triangle> tris;
+  std::vector<Vec3f> rest;
+  const int n = 12;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const float x = -1.0f + 2.0f * i / n, y = -0.5f + 1.0f * j / n;
+      rest.push_back({x, y, 0.2f * std::sin(3.0f * x) * std::cos(4.0f * y)});
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const uint32_t a = i * (n + 1) + j, b = a + 1, d = a + n + 1, e = d + 1;
+      tris.push_back({a, b, e});
+      tris.push_back({a, e, d});
+    }
+  std::vector<std::vector<Vec3f>> steps(5);
+  for (int k = 0; k < 5; ++k) {
+    const Affine3f m = Affine3f::rotate(normalize(Vec3f{0.3f, 1.0f, 0.2f}), 1.5707963f * k);
+    for (size_t v = 0; v < rest.size(); ++v) {
+      Vec3f p = m.xfmPoint(rest[v]);
+      p.z += 0.05f * std::sin(float(v) + k);  // a small non-rigid residual
+      steps[k].push_back(p);
+    }
+  }
+  scene->addTriangleMesh(std::move(tris), std::move(steps));
+  return scene;
+}
+
+}  // namespace
+
+TEST(FuzzyKd, SkinnedAgreesWithTheOracleAtKeysAndBetween) {
+  const ProceduralScene ps = makeProceduralScene("skinned", 0.05, 3);
+  expectOracle(*ps.scene, 200, 4000, 11);
+  const auto rays = test::oracleRays(ps, 3000, 100, 4);
+  const auto rep = test::compareWithOracle(*test::buildKind(*ps.scene, AccelKind::Brute),
+                                           *test::buildKind(*ps.scene, AccelKind::FuzzyKd), rays);
+  EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
+  EXPECT_EQ(rep.anyWrong, 0u);
+}
+
+TEST(FuzzyKd, FastTurningMeshAgreesWithTheOracleBetweenKeys) {
+  const auto scene = fastTurningScene();
+  expectOracle(*scene, 300, 20000, 5);
+  detail::BuildBudget budget;
+  BuildOptions o;
+  o.kind = AccelKind::FuzzyKd;
+  detail::SceneContext ctx(*scene, o, budget);
+  const auto st = detail::makeStructure(ctx);
+  const auto& s = dynamic_cast<const detail::FuzzyKdInspect&>(*st).fuzzyStats();
+  std::printf("[ info ] fast turn: %zu clusters, %zu fallback, %u sub-samples, %zu world prims\n", s.clusters,
+              s.fallbackClusters, s.maxSubdivisions, s.worldPrims);
+  EXPECT_GE(s.clusters, 1u);
+  EXPECT_GT(s.maxSubdivisions, 1u);
+}
+
+TEST(FuzzyKd, WoodDollAgreesWithTheOracle) {
+  const auto scene = sharedScene("wooddoll_utah/wooddoll_*.obj");
+  if (!scene) GTEST_SKIP() << "no ../shared (the Wood Doll)";
+  expectOracle(*scene, 60, 3000, 21);
+}
+
+TEST(FuzzyKd, CesiumManAgreesWithTheOracle) {
+  const auto scene = sharedScene("cesium_man/CesiumMan.glb");
+  if (!scene) GTEST_SKIP() << "no ../shared (CesiumMan)";
+  expectOracle(*scene, 100, 3000, 31);
+}
+
+namespace {
+
+// The paper's Table 1 for one scene: fuzzykd vs a static SAH kd-tree built
+// on the geometry frozen at each key frame.
+struct Table1 {
+  size_t triangles = 0, frames = 0, clusters = 0;
+  double rms = 0, decompose = 0, trees = 0;
+  double fuzzySteps = 0, fuzzyTests = 0, staticSteps = 0, staticTests = 0;
+  size_t fuzzyBytes = 0;
+  double staticBytes = 0, staticBuild = 0;
+};
+
+Table1 table1(const Scene& scene, const char* name, size_t raysPerFrame, size_t maxFrames) {
+  Table1 t;
+  detail::BuildBudget budget;
+  BuildOptions o;
+  o.kind = AccelKind::FuzzyKd;
+  detail::SceneContext ctx(scene, o, budget);
+  const auto st = detail::makeStructure(ctx);
+  const auto& fs = dynamic_cast<const detail::FuzzyKdInspect&>(*st).fuzzyStats();
+  t.triangles = ctx.numPrimitives();
+  t.clusters = fs.clusters;
+  t.rms = fs.rmsResidual;
+  t.decompose = fs.decomposeSeconds;
+  t.trees = fs.treeSeconds;
+  t.fuzzyBytes = fs.fuzzyTreeBytes;
+  const std::vector<detail::PrimRef> prims = ctx.primitives();
+  std::vector<float> times = keyTimes(scene);
+  if (times.size() > maxFrames) {
+    std::vector<float> sub;
+    for (size_t i = 0; i < maxFrames; ++i) sub.push_back(times[i * (times.size() - 1) / (maxFrames - 1)]);
+    times = sub;
+  }
+  std::mt19937 rng(77);
+  TraversalCounters fz, sk;
+  size_t rays = 0;
+  for (float time : times) {
+    std::vector<Box3f> boxes;
+    for (const auto& p : prims) boxes.push_back(detail::boxAt(ctx, p, time));
+    const auto b0 = std::chrono::steady_clock::now();
+    const detail::KdPaths paths = detail::KdPaths::fromBoxes(boxes);
+    Box3f root;
+    for (const Box3f& b : boxes) root.extend(b);
+    detail::KdTree tree;
+    detail::KdBuildStats bs;
+    detail::buildKdTree(paths, root, {}, budget, tree, bs);
+    t.staticBuild += std::chrono::duration<double>(std::chrono::steady_clock::now() - b0).count();
+    t.staticBytes += double(tree.bytes());
+    for (const Ray& r : aimedRays(scene, rng, raysPerFrame, time)) {
+      detail::RayQuery a(r), b(r);
+      Hit ha, hb;
+      st->intersectCounted(a, ha, fz);
+      detail::kdTraverse<false, true>(tree, ctx, prims.data(), b, &hb, &sk);
+      ++rays;
+    }
+  }
+  t.frames = times.size();
+  t.staticBytes /= double(times.size());
+  t.staticBuild /= double(times.size());
+  t.fuzzySteps = double(fz.nodesVisited) / rays;
+  t.fuzzyTests = double(fz.primitiveTests) / rays;
+  t.staticSteps = double(sk.nodesVisited) / rays;
+  t.staticTests = double(sk.primitiveTests) / rays;
+  std::printf("[ table1 ] %s: %zu tris, %zu frames, %zu clusters (%zu fallback, %zu world prims), rms residual %.3g, "
+              "decompose %.2f s, fuzzy trees %.3f s (static per frame %.3f s)\n",
+              name, t.triangles, t.frames, t.clusters, fs.fallbackClusters, fs.worldPrims, t.rms, t.decompose,
+              t.trees, t.staticBuild);
+  std::printf("[ table1 ] %s: steps/ray fuzzy %.1f static %.1f (x%.2f); tests/ray fuzzy %.1f static %.1f (x%.2f)\n",
+              name, t.fuzzySteps, t.staticSteps, t.fuzzySteps / t.staticSteps, t.fuzzyTests, t.staticTests,
+              t.fuzzyTests / t.staticTests);
+  std::printf("[ table1 ] %s: memory fuzzy trees %zu B, one static tree %.0f B (x%.2f), all frames %.0f B\n", name,
+              t.fuzzyBytes, t.staticBytes, t.fuzzyBytes / t.staticBytes,
+              t.staticBytes * double(keyTimes(scene).size()));
+  for (const auto& d : fs.decompositions)
+    for (const auto& row : d.curve)
+      std::printf("[ curve ] %s: clusters %u residual %.4g fuzzy area %.4g at %.2f s\n", name, row.clusters,
+                  row.residual, row.fuzzyArea, row.seconds);
+  return t;
+}
+
+}  // namespace
+
+TEST(FuzzyKd, Table1Skinned) {
+  const ProceduralScene ps = makeProceduralScene("skinned", 0.1, 3);
+  const Table1 t = table1(*ps.scene, "skinned", 2000, 9);
+  EXPECT_GT(t.clusters, 1u);
+  EXPECT_GT(t.fuzzySteps, 0.0);
+}
+
+TEST(FuzzyKd, Table1SharedScenes) {
+  const auto doll = sharedScene("wooddoll_utah/wooddoll_*.obj");
+  if (!doll) GTEST_SKIP() << "no ../shared (the Wood Doll, CesiumMan)";
+  const Table1 a = table1(*doll, "wooddoll", 1000, 29);
+  EXPECT_GT(a.clusters, 1u);
+  const auto man = sharedScene("cesium_man/CesiumMan.glb");
+  if (man) {
+    const Table1 b = table1(*man, "cesiumman", 1000, 16);
+    EXPECT_GT(b.clusters, 1u);
+  }
+}
