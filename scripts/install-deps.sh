@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libtbb-dev libgtest-dev libcli11-dev libpng-dev libembree-dev libopenexr-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev
+  clang-14 libclang-rt-14-dev
   git ca-certificates
 )
 

@@ -118,3 +118,15 @@ if(EXISTS "${PROJECT_SOURCE_DIR}/../shared/scenes/wooddoll_utah")
   set_tests_properties(cli.bench_real_scene PROPERTIES
     PASS_REGULAR_EXPRESSION "wooddoll \\(6658 primitives")
 endif()
+
+# Absurd render sizes and sample counts are refused with a message (exit 2).
+add_test(NAME cli.error_render_width COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --width 100000 -o ${MBRT_CLI_OUT}/w.png)
+set_tests_properties(cli.error_render_width PROPERTIES PASS_REGULAR_EXPRESSION "--width: Value 100000 not in range")
+add_test(NAME cli.error_render_height COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --height 0 -o ${MBRT_CLI_OUT}/h.png)
+set_tests_properties(cli.error_render_height PROPERTIES PASS_REGULAR_EXPRESSION "--height: Value 0 not in range")
+add_test(NAME cli.error_render_spp COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --spp -3 -o ${MBRT_CLI_OUT}/s.png)
+set_tests_properties(cli.error_render_spp PROPERTIES PASS_REGULAR_EXPRESSION "--spp: Value -3 not in range")
+add_test(NAME cli.error_render_spp_huge COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --spp 1e12 -o ${MBRT_CLI_OUT}/s.png)
+set_tests_properties(cli.error_render_spp_huge PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*--spp")
+add_test(NAME cli.error_render_total COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --width 16384 --height 16384 --spp 65536 -o ${MBRT_CLI_OUT}/t.png)
+set_tests_properties(cli.error_render_total PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: render: width x height x spp")

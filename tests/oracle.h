@@ -142,3 +142,63 @@ inline std::vector<Ray> oracleRays(const ProceduralScene& ps, size_t randomTimeR
 }
 
 }  // namespace mbrt::test
+
+namespace mbrt::test {
+
+// The oracle's answers for a batch of rays, computed once (in parallel) and
+// compared with several structures: compareWithOracleHits applies the same
+// rules as compareWithOracle.
+struct OracleAnswers {
+  std::vector<Hit> hits;
+  std::vector<uint8_t> occluded;
+};
+
+inline OracleAnswers oracleAnswers(const Accel& oracle, const std::vector<Ray>& rays) {
+  OracleAnswers a;
+  a.hits.resize(rays.size());
+  a.occluded.resize(rays.size());
+  oracle.intersect(rays, a.hits);
+  oracle.occluded(rays, a.occluded);
+  return a;
+}
+
+inline OracleReport compareWithOracleHits(const OracleAnswers& ref, const Accel& tested, const std::vector<Ray>& rays,
+                                          float tolerance = 1e-5f) {
+  std::vector<Hit> hits(rays.size());
+  std::vector<uint8_t> occ(rays.size());
+  tested.intersect(rays, hits);
+  tested.occluded(rays, occ);
+  OracleReport rep;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Hit& a = ref.hits[i];
+    const Hit& b = hits[i];
+    const bool ha = a.valid(), hb = b.valid();
+    ++rep.rays;
+    rep.hits += ha ? 1 : 0;
+    bool ok = ha == hb;
+    if (ok && ha && (a.geomID != b.geomID || a.primID != b.primID || a.instID != b.instID)) {
+      const bool tie = std::fabs(a.t - b.t) <= std::max(1e-4f, tolerance) * std::max(1.0f, std::fabs(a.t));
+      rep.ties += tie ? 1 : 0;
+      ok = tie;
+    } else if (ok && ha) {
+      ok = std::fabs(a.t - b.t) <= tolerance * std::max(1.0f, std::fabs(a.t));
+    }
+    if (!ok) {
+      if (rep.wrong == 0) {
+        const Ray& ray = rays[i];
+        rep.firstFailure = "ray org (" + std::to_string(ray.org.x) + "," + std::to_string(ray.org.y) + "," +
+                           std::to_string(ray.org.z) + ") dir (" + std::to_string(ray.dir.x) + "," +
+                           std::to_string(ray.dir.y) + "," + std::to_string(ray.dir.z) + ") time " +
+                           std::to_string(ray.time) + ": oracle " + (ha ? "hit" : "miss") + " g" +
+                           std::to_string(a.geomID) + " p" + std::to_string(a.primID) + " t " +
+                           std::to_string(a.t) + ", tested " + (hb ? "hit" : "miss") + " g" +
+                           std::to_string(b.geomID) + " p" + std::to_string(b.primID) + " t " + std::to_string(b.t);
+      }
+      ++rep.wrong;
+    }
+    if (bool(ref.occluded[i]) != bool(occ[i])) ++rep.anyWrong;
+  }
+  return rep;
+}
+
+}  // namespace mbrt::test

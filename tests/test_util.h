@@ -1,7 +1,9 @@
 // Helpers shared by the tests: small random scenes and ray generators.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
 #include <random>
 #include <vector>
@@ -9,7 +11,31 @@
 #include "mbrt/accel.h"
 #include "mbrt/scene.h"
 
+#ifndef MBRT_DEFAULT_TEST_SCALE
+#define MBRT_DEFAULT_TEST_SCALE 1.0
+#endif
+
 namespace mbrt::test {
+
+// How much of its full size a heavy test runs at: MBRT_TEST_SCALE from the
+// environment, else the build's default (1; 0.1 in sanitizer builds, see
+// cmake/Sanitize.cmake). Heavy tests multiply ray and primitive counts by it.
+inline double testScale() {
+  static const double scale = [] {
+    double s = MBRT_DEFAULT_TEST_SCALE;
+    if (const char* e = std::getenv("MBRT_TEST_SCALE")) {
+      char* end = nullptr;
+      const double v = std::strtod(e, &end);
+      if (end != e && v > 0.0 && v <= 1000.0) s = v;
+    }
+    return s;
+  }();
+  return scale;
+}
+// `n` scaled, at least `atLeast`.
+inline size_t scaled(size_t n, size_t atLeast = 1) {
+  return std::max(atLeast, size_t(double(n) * testScale() + 0.5));
+}
 
 inline std::unique_ptr<Accel> buildKind(const Scene& scene, AccelKind kind, int branching = 8) {
   BuildOptions o;

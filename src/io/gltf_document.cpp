@@ -55,8 +55,12 @@ void readElements(const Document& doc, int viewIndex, size_t offset, int compone
   const size_t elementSize = size_t(componentSize) * size_t(components);
   const size_t stride = view.byteStride ? view.byteStride : elementSize;
   if (count == 0) return;
-  const size_t need = offset + (count - 1) * stride + elementSize;
-  if (need > view.byteLength || view.byteOffset + view.byteLength > data.size())
+  // Every size comes from the file: check without overflowing size_t.
+  const bool viewFits = view.byteOffset <= data.size() && view.byteLength <= data.size() - view.byteOffset;
+  const bool elementsFit = offset <= view.byteLength && elementSize <= view.byteLength - offset &&
+                           (count - 1) <= (view.byteLength - offset - elementSize) / stride;
+  const size_t need = elementsFit ? offset + (count - 1) * stride + elementSize : size_t(-1);
+  if (!elementsFit || !viewFits)
     doc.fail(what + ": needs " + std::to_string(need) + " bytes of buffer view " + std::to_string(viewIndex) +
              ", which has " + std::to_string(view.byteLength) + " (of a buffer of " + std::to_string(data.size()) +
              " bytes): truncated or corrupt file");
@@ -76,6 +80,15 @@ std::vector<double> readAccessor(const Document& doc, int index, int components,
   if (n != components)
     doc.fail(what + ": accessor " + std::to_string(index) + " has " + std::to_string(n) +
              " components per element, expected " + std::to_string(components));
+  // An accessor without a buffer view is all zeros (or sparse): its count is
+  // bounded only by this limit; one with a view by the view's size (checked
+  // in readElements before anything is allocated).
+  constexpr size_t kMaxElements = size_t(1) << 26;
+  if (a.count > kMaxElements)
+    doc.fail(what + ": accessor " + std::to_string(index) + " has " + std::to_string(a.count) +
+             " elements, more than the limit of " + std::to_string(kMaxElements));
+  if (a.sparse.isSparse && (a.sparse.count < 0 || size_t(a.sparse.count) > a.count))
+    doc.fail(what + ": accessor " + std::to_string(index) + " has a bad sparse count");
   std::vector<double> out(a.count * size_t(components), 0.0);
   if (a.bufferView >= 0)
     readElements(doc, a.bufferView, a.byteOffset, a.componentType, a.normalized, a.count, components, what, out.data());

@@ -1,4 +1,5 @@
 // PLY (ascii and binary little-endian): vertex positions and polygon faces.
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <charconv>
@@ -121,6 +122,13 @@ class PlyReader {
       }
     }
     if (!formatSeen) fail("header has no 'format' line");
+    for (const Element& e : elements_) {
+      if (e.name != "vertex") continue;
+      const std::vector<int> r = roles(e);
+      for (int axis = 0; axis < 3; ++axis)
+        if (std::find(r.begin(), r.end(), axis) == r.end())
+          fail(std::string("element 'vertex' has no property '") + "xyz"[axis] + "'");
+    }
     if (binary_ && std::endian::native != std::endian::little) fail("binary PLY needs a little-endian machine");
   }
 
@@ -147,6 +155,15 @@ class PlyReader {
              std::to_string(mesh_.positions.size()));
     for (size_t i = 1; i + 1 < face.size(); ++i)
       mesh_.triangles.push_back({uint32_t(face[0]), uint32_t(face[i]), uint32_t(face[i + 1])});
+  }
+
+  // A list count or vertex index read as a double: a whole number in range
+  // (NaN, infinities, fractions and huge values are refused before any
+  // conversion to an integer, which would be undefined for them).
+  long long integral(double v, const Element& e, const char* what) const {
+    if (!(v >= -2147483648.0 && v <= 4294967295.0) || v != std::floor(v))
+      fail(std::string("bad ") + what + " in element '" + e.name + "'");
+    return (long long)v;
   }
 
   void checkCoordinate(float v, size_t index) {
@@ -184,10 +201,10 @@ class PlyReader {
       for (size_t k = 0; k < e.props.size(); ++k) {
         const Property& prop = e.props[k];
         if (prop.isList) {
-          const double n = number();
-          if (n < 0 || n != std::floor(n)) fail("bad list count");
+          const long long n = integral(number(), e, "list count");
+          if (n < 0) fail("bad list count in element '" + e.name + "'");
           face.clear();
-          for (long long j = 0; j < (long long)n; ++j) face.push_back((long long)number());
+          for (long long j = 0; j < n; ++j) face.push_back(integral(number(), e, "list value"));
           if (role[k] == 3) addFace(face, i);
         } else {
           const double v = number();
@@ -218,6 +235,7 @@ class PlyReader {
   }
 
   void readBinary(const Element& e) {
+    if (e.props.empty()) return;  // nothing to read, whatever the count
     const std::vector<int> role = roles(e);
     std::vector<long long> face;
     for (size_t i = 0; i < e.count; ++i) {
@@ -225,10 +243,10 @@ class PlyReader {
       for (size_t k = 0; k < e.props.size(); ++k) {
         const Property& prop = e.props[k];
         if (prop.isList) {
-          const double n = readValue(prop.countType, e);
+          const long long n = integral(readValue(prop.countType, e), e, "list count");
           if (n < 0) fail("negative list count in element '" + e.name + "'");
           face.clear();
-          for (long long j = 0; j < (long long)n; ++j) face.push_back((long long)readValue(prop.type, e));
+          for (long long j = 0; j < n; ++j) face.push_back(integral(readValue(prop.type, e), e, "list value"));
           if (role[k] == 3) addFace(face, i);
         } else {
           const double v = readValue(prop.type, e);

@@ -40,6 +40,11 @@ void checkOptions(const RenderOptions& o) {
   if (o.width < 1 || o.height < 1 || o.width > 65536 || o.height > 65536)
     bad("image size must be in [1, 65536] x [1, 65536]");
   if (o.spp < 1) bad("samples per pixel must be at least 1");
+  // Beyond this the render would run for days: refused rather than started.
+  constexpr uint64_t kMaxCameraSamples = uint64_t(1) << 40;
+  if (uint64_t(o.width) * uint64_t(o.height) * uint64_t(o.spp) > kMaxCameraSamples)
+    bad("width x height x spp = " + std::to_string(uint64_t(o.width) * uint64_t(o.height) * uint64_t(o.spp)) +
+        " camera samples is more than the limit of 2^40");
   if (o.tileSize < 1) bad("tile size must be at least 1");
   if (o.aoSamples < 1) bad("ambient occlusion needs at least 1 ray per sample");
   if (o.maxDepth < 0) bad("path depth must be >= 0");
