@@ -12,6 +12,7 @@
 #include "core/scene_context.h"
 #include "geometry/primitive_bounds.h"
 #include "mbrt/accel.h"
+#include "test_util.h"
 
 using namespace mbrt;
 
@@ -172,8 +173,8 @@ TEST(Bvh, AgreesWithBrute) {
     bo.kind = AccelKind::Brute;
     bo.frozenTime = 0.45f;
     auto brute = Accel::build(*ts.scene, bo);
-    const std::vector<Ray> rays = makeRays(ts, 3000, 11);
-    const std::vector<Ray> frozenRays = makeRays(ts, 1500, 12, &bo.frozenTime);
+    const std::vector<Ray> rays = makeRays(ts, test::scaled(3000, 300), 11);
+    const std::vector<Ray> frozenRays = makeRays(ts, test::scaled(1500, 150), 12, &bo.frozenTime);
     for (AccelKind kind : kKinds)
       for (int width : {2, 4, 8}) {
         BuildOptions o = bo;
@@ -239,8 +240,8 @@ TEST(Bvh, BoundsAreConservative) {
 TEST(Bvh, DeterministicWhateverTheThreadCount) {
   Rng rng(3);
   Scene scene;
-  addRandomTriangles(scene, rng, 12000, 3);
-  addRandomTriangles(scene, rng, 8000, 1);
+  addRandomTriangles(scene, rng, uint32_t(test::scaled(12000, 3000)), 3);
+  addRandomTriangles(scene, rng, uint32_t(test::scaled(8000, 2000)), 1);
   for (AccelKind kind : kKinds)
     for (int width : {2, 8}) {
       BuildOptions o;

@@ -65,6 +65,8 @@ void expectOracle(const Scene& scene, size_t perKey, size_t random, uint64_t see
   std::mt19937 rng{uint32_t(seed)};
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<Ray> rays;
+  perKey = test::scaled(perKey, 20);  // fewer rays under sanitizers (MBRT_TEST_SCALE)
+  random = test::scaled(random, 50);
   for (float t : keyTimes(scene)) {
     auto r = aimedRays(scene, rng, perKey, t);
     rays.insert(rays.end(), r.begin(), r.end());
@@ -119,9 +121,9 @@ std::shared_ptr<Scene> fastTurningScene() {
 }  // namespace
 
 TEST(FuzzyKd, SkinnedAgreesWithTheOracleAtKeysAndBetween) {
-  const ProceduralScene ps = makeProceduralScene("skinned", 0.05, 3);
+  const ProceduralScene ps = makeProceduralScene("skinned", 0.05 * std::max(0.2, test::testScale()), 3);
   expectOracle(*ps.scene, 200, 4000, 11);
-  const auto rays = test::oracleRays(ps, 3000, 100, 4);
+  const auto rays = test::oracleRays(ps, test::scaled(3000, 100), test::scaled(100, 10), 4);
   const auto rep = test::compareWithOracle(*test::buildKind(*ps.scene, AccelKind::Brute),
                                            *test::buildKind(*ps.scene, AccelKind::FuzzyKd), rays);
   EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
