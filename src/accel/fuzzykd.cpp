@@ -382,28 +382,9 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
         ++counters->boxTests;
       }
       if (!n.isLeaf()) {
-        const int a = n.axis();
-        const float p = n.split();
-        const float o = local.org[a];
-        const float tsplit = (p - o) * local.rdir[a];
-        const bool belowFirst = o < p || (o == p && local.dir[a] <= 0.0f);
-        const uint32_t left = node + 1, right = n.rightChild();
-        const uint32_t nearChild = belowFirst ? left : right, farChild = belowFirst ? right : left;
-        if (std::isnan(tsplit)) {
-          stack[sp++] = {farChild, tmin, tmax};
-          node = nearChild;
-          continue;
-        }
-        const float lo = tsplit * (1.0f - kKdSplitSlack), hi = tsplit * (1.0f + kKdSplitSlack);
-        if (!(tsplit > 0.0f) || lo > tmax) {
-          node = nearChild;
-        } else if (hi < tmin) {
-          node = farChild;
-        } else {
-          stack[sp++] = {farChild, std::max(tmin, lo), tmax};
-          node = nearChild;
-          tmax = std::min(tmax, hi);
-        }
+        node = kdInnerStep(n, node, local, tmin, tmax, [&](uint32_t child, float t0, float t1) {
+          stack[sp++] = {child, t0, t1};
+        });
         continue;
       }
       const KdLeafRef* refs = tree.refs.data() + n.first();

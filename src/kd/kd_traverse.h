@@ -64,6 +64,34 @@ struct KdNoRefFilter {
   bool operator()(uint32_t, const RayQuery&) const { return true; }
 };
 
+// One inner node of front-to-back traversal over [tmin, tmax]: returns the
+// child to visit first (narrowing tmax to it) and pushes the other side when
+// the ray reaches it too. The ray is on one side of the plane for t < tsplit
+// and on the other beyond, whatever the sign of t (tnear may be negative);
+// rays in the plane, or whose distance overflows, visit both sides.
+template <class Push>
+inline uint32_t kdInnerStep(const KdNode& n, uint32_t node, const RayQuery& ray, float tmin, float& tmax,
+                            Push&& push) {
+  const int a = n.axis();
+  const float p = n.split();
+  const float o = ray.org[a], da = ray.dir[a];
+  const uint32_t left = node + 1, right = n.rightChild();
+  if (da == 0.0f && o != p) return o < p ? left : right;  // parallel: the origin's side
+  const float tsplit = (p - o) * ray.rdir[a];
+  if (da == 0.0f || std::isnan(tsplit)) {
+    push(right, tmin, tmax);
+    return left;
+  }
+  const uint32_t before = da > 0.0f ? left : right, after = da > 0.0f ? right : left;
+  const float slack = std::fabs(tsplit) * kKdSplitSlack;
+  const float lo = tsplit - slack, hi = tsplit + slack;
+  if (lo > tmax) return before;
+  if (hi < tmin) return after;
+  push(after, std::max(tmin, lo), tmax);
+  tmax = std::min(tmax, hi);
+  return before;
+}
+
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
 // prims[i] is the primitive of reference index i. `filter(prim, ray)` may
 // reject a reference before its test (counted as a box test when active).
@@ -90,28 +118,9 @@ bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prim
       ++counters->boxTests;
     }
     if (!n.isLeaf()) {
-      const int a = n.axis();
-      const float p = n.split();
-      const float o = ray.org[a];
-      const float tsplit = (p - o) * ray.rdir[a];
-      const bool belowFirst = o < p || (o == p && ray.dir[a] <= 0.0f);
-      const uint32_t left = node + 1, right = n.rightChild();
-      const uint32_t nearChild = belowFirst ? left : right, farChild = belowFirst ? right : left;
-      if (std::isnan(tsplit)) {  // in the plane: both sides
-        stack[sp++] = {farChild, tmin, tmax};
-        node = nearChild;
-        continue;
-      }
-      const float lo = tsplit * (1.0f - kKdSplitSlack), hi = tsplit * (1.0f + kKdSplitSlack);
-      if (!(tsplit > 0.0f) || lo > tmax) {
-        node = nearChild;
-      } else if (hi < tmin) {
-        node = farChild;
-      } else {
-        stack[sp++] = {farChild, std::max(tmin, lo), tmax};
-        node = nearChild;
-        tmax = std::min(tmax, hi);
-      }
+      node = kdInnerStep(n, node, ray, tmin, tmax, [&](uint32_t child, float t0, float t1) {
+        stack[sp++] = {child, t0, t1};
+      });
       continue;
     }
     // Leaf.
