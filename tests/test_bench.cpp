@@ -141,3 +141,23 @@ TEST(Bench, RunsOnAProceduralScene) {
   EXPECT_EQ(report.results[0].scene, "demo");
   EXPECT_EQ(report.results[0].mismatches, 0u);
 }
+
+TEST(Bench, ASlowCountedPassIsThinnedToItsBudget) {
+  bench::Options o = tinyOptions();
+  o.accels = {"bvh-interp"};
+  o.countSample = 300;
+  bench::Report full = bench::run(o, {tinyScene()});
+  ASSERT_EQ(full.results.size(), 1u);
+  EXPECT_EQ(full.results[0].countedRays, 300u) << "a fast structure is counted on the whole sample";
+
+  o.countBudgetSeconds = 1e-12;  // nothing fits: down to the minimum
+  o.minCountedRays = 50;
+  const bench::Report thin = bench::run(o, {tinyScene()});
+  ASSERT_EQ(thin.results.size(), 1u);
+  const bench::Result& r = thin.results[0];
+  EXPECT_GE(r.countedRays, 50u);
+  EXPECT_LT(r.countedRays, 300u);
+  ASSERT_TRUE(r.stepsMean.has_value());
+  EXPECT_GT(*r.stepsMean, 0.0);
+  EXPECT_NE(bench::toMarkdown(thin).find("counters are over"), std::string::npos);
+}

@@ -64,8 +64,9 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_option("--rays-file", args->rayFile,
                   "Trace these rays (mbrt trace format) as the main set of the one scene given");
   cmd->add_option("--budget", args->budget,
-                  "Seconds all passes of one structure over one ray set may take (default 20, --quick 5); "
-                  "slower structures are timed on a prefix of the rays");
+                  "Seconds all timed passes of one structure over one ray set may take (default 20, --quick 5; "
+                  "its counted passes get a quarter of it); slower structures are timed and counted on "
+                  "every k-th ray");
   cmd->add_option("--json", args->json, "Write every figure as JSON to this file");
   cmd->add_option("--html", args->html, "Write an HTML report with SVG bar charts to this file");
   cmd->callback([args] {
@@ -75,7 +76,10 @@ void registerBenchCommand(CLI::App& app) {
     if (args->rays > 0) o.width = o.height = args->rays;
     if (args->frozenTimes > 0) o.frozenTimes = args->frozenTimes;
     if (args->repeats > 0) o.repeats = args->repeats;
-    if (args->budget > 0) o.passBudgetSeconds = args->budget;
+    if (args->budget > 0) {
+      o.passBudgetSeconds = args->budget;
+      o.countBudgetSeconds = args->budget / 4.0;
+    }
     o.seed = args->seed;
     o.scenes = splitList(args->scenes);
     o.accels = splitList(args->accels);

@@ -151,20 +151,32 @@ double timedMedian(int repeats, F&& f) {
   return median(t);
 }
 
-void countedFigures(const Target& target, std::span<const Ray> rays, const std::vector<size_t>& idx,
-                    std::optional<double>& stepsMean, std::optional<double>* stepsMax, std::optional<double>* boxMean,
-                    std::optional<double>& isectsMean, std::optional<uint64_t>* isectsMax) {
+// Every k-th of `idx`, k chosen so that at most `cap` remain (evenly spread,
+// as `idx` is over the image).
+std::vector<size_t> thinned(const std::vector<size_t>& idx, size_t cap) {
+  if (cap == 0 || idx.size() <= cap) return idx;
+  const size_t k = (idx.size() + cap - 1) / cap;
+  std::vector<size_t> out;
+  for (size_t j = 0; j < idx.size(); j += k) out.push_back(idx[j]);
+  return out;
+}
+
+// Mean/max traversal counters over rays[idx]; returns how many rays were counted.
+size_t countedFigures(const Target& target, std::span<const Ray> rays, const std::vector<size_t>& idx,
+                      std::optional<double>& stepsMean, std::optional<double>* stepsMax, std::optional<double>* boxMean,
+                      std::optional<double>& isectsMean, std::optional<uint64_t>* isectsMax) {
   std::vector<Ray> sample;
   for (size_t i : idx) sample.push_back(rays[i]);
   std::vector<Hit> hits(sample.size());
   TraversalCounters c;
-  if (!target.traceCounted(sample, hits, c) || c.rays == 0) return;
+  if (!target.traceCounted(sample, hits, c) || c.rays == 0) return 0;
   const double n = double(c.rays);
   stepsMean = double(c.nodesVisited) / n;
   isectsMean = double(c.primitiveTests) / n;
   if (stepsMax) *stepsMax = double(c.maxNodesVisited);
   if (boxMean) *boxMean = double(c.boxTests) / n;
   if (isectsMax) *isectsMax = c.maxPrimitiveTests;
+  return sample.size();
 }
 
 }  // namespace
@@ -177,6 +189,7 @@ void Options::makeQuick() {
   frozenTimes = 8;
   singleBuildSeconds = 0.5;
   passBudgetSeconds = 5.0;
+  countBudgetSeconds = 1.25;
 }
 
 Candidate accelCandidate(AccelKind kind) {
@@ -372,6 +385,7 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
       // set would not fit the time budget (estimated from a probe over the
       // whole image: rays are in pixel order, so a prefix would be all sky).
       // `hits` gets the traced rays' hits; returns the stride.
+      double perRayMt = 0.0;  // the slower of the probes (main and frozen set), s per ray on all threads
       auto traceSet = [&](const std::vector<Ray>& set, std::vector<Hit>& hits, double& st1, double& mt) {
         hits.assign(set.size(), Hit());
         auto every = [&](size_t stride) {
@@ -385,6 +399,7 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
         const auto ps0 = Clock::now();
         target->trace(probe, probeHits);
         const double perRay = seconds(ps0) / double(std::max<size_t>(probe.size(), 1));
+        perRayMt = std::max(perRayMt, perRay);
         const double passes = double(std::max(1, options.repeats)) * (st1 < 0 ? 1.0 : 1.0 + double(report.threads));
         size_t stride = 1;
         if (perRay * double(set.size()) * passes > options.passBudgetSeconds)
@@ -422,9 +437,17 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
       const size_t frozenStride = traceSet(frozenRays, frozenHits, noSt, res.frozenSet.mraysMt);
       res.frozenSet.timedRays = (frozenRays.size() + frozenStride - 1) / frozenStride;
       res.frozenSet.rays = frozenRays.size();
+      // The counted passes share countBudgetSeconds (counting costs about
+      // twice a plain trace); the main set is counted after its timed pass,
+      // which refines the estimate.
+      auto countCap = [&] {
+        const double perCounted = 2.0 * perRayMt;
+        if (perCounted <= 0.0) return options.countSample;
+        return std::max(options.minCountedRays, size_t(0.5 * options.countBudgetSeconds / perCounted));
+      };
       progress(ctag + "counting");
-      countedFigures(*target, frozenRays, countFrozenIdx, res.frozenSet.stepsMean, nullptr, nullptr,
-                     res.frozenSet.isectsMean, nullptr);
+      countedFigures(*target, frozenRays, thinned(countFrozenIdx, countCap()), res.frozenSet.stepsMean, nullptr,
+                     nullptr, res.frozenSet.isectsMean, nullptr);
       res.frozenSet.mismatches =
           bruteMismatches(bruteFrozenIdx, bruteFrozenHits, frozenHits, frozenStride);
 
@@ -438,8 +461,8 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
         res.rays = frozenRays.size();
         res.stepsMean = res.frozenSet.stepsMean;
         res.isectsMean = res.frozenSet.isectsMean;
-        countedFigures(*target, frozenRays, countFrozenIdx, res.stepsMean, &res.stepsMax, &res.boxTestsMean,
-                       res.isectsMean, &res.isectsMax);
+        res.countedRays = countedFigures(*target, frozenRays, thinned(countFrozenIdx, countCap()), res.stepsMean,
+                                         &res.stepsMax, &res.boxTestsMean, res.isectsMean, &res.isectsMax);
         res.mismatchesBrute = bruteMismatches(bruteFrozenIdx, bruteFrozenHits, hits, stride);
         res.bruteChecked = checked;
         hits.clear();
@@ -452,8 +475,8 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes) {
         res.mraysSt = st1;
         res.rays = rays.size();
         progress(ctag + "counting");
-        countedFigures(*target, rays, countIdx, res.stepsMean, &res.stepsMax, &res.boxTestsMean, res.isectsMean,
-                       &res.isectsMax);
+        res.countedRays = countedFigures(*target, rays, thinned(countIdx, countCap()), res.stepsMean, &res.stepsMax,
+                                         &res.boxTestsMean, res.isectsMean, &res.isectsMax);
         res.mismatchesBrute = bruteMismatches(bruteIdx, bruteHits, hits, stride);
         res.bruteChecked = checked;
       }

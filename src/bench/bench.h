@@ -43,7 +43,7 @@ struct Options {
   int width = 512, height = 512;    // primary rays
   int frozenTimes = 16;             // K
   size_t bruteSample = 2000;        // rays checked against brute
-  size_t countSample = 20000;       // rays of the counted pass
+  size_t countSample = 20000;       // rays of the counted pass (fewer when over countBudgetSeconds)
   int repeats = 3;                  // median of this many passes / builds
   double singleBuildSeconds = 3.0;  // builds slower than this are timed once
   // A structure whose passes over the whole ray set would take longer than
@@ -51,6 +51,11 @@ struct Options {
   // chosen to fit (at least minTimedRays); its row says how many were timed.
   double passBudgetSeconds = 20.0;
   size_t minTimedRays = 4096;
+  // The counted passes (main and frozen set) of one structure get this long,
+  // estimated from the timed probe; a slower structure is counted on an
+  // evenly spread subset of the sample (at least minCountedRays).
+  double countBudgetSeconds = 5.0;
+  size_t minCountedRays = 500;
   uint64_t seed = 1;
   std::string commit = "unknown";
   std::FILE* progress = nullptr;    // a progress line (stderr), or none
@@ -82,6 +87,7 @@ struct Result {
   std::optional<uint64_t> isectsMax;
   size_t rays = 0;
   size_t timedRays = 0;  // rays of the timed passes (every k-th of `rays` when the budget cut it)
+  size_t countedRays = 0;  // rays of the counted pass (the sample, thinned when over its budget)
   double mraysSt = 0.0, mraysMt = 0.0;
   size_t mismatches = 0;                   // vs brute (sample) + vs embree (all)
   size_t mismatchesBrute = 0, bruteChecked = 0;

@@ -103,6 +103,12 @@ std::string toMarkdown(const Report& report) {
       if (r.scene == scene && r.timedRays < r.rays)
         out << "\n`" << r.accel << "` was timed on " << r.timedRays << " of the " << r.rays
             << " rays, evenly spread over the set (its full passes would exceed the time budget); mismatches are over those.\n";
+    for (const Result& r : report.results) {
+      const size_t full = std::min(report.options.countSample, r.rays);
+      if (r.scene == scene && r.countedRays > 0 && r.countedRays < full)
+        out << "\n`" << r.accel << "`'s counters are over " << r.countedRays << " of the " << full
+            << " sampled rays (counting them all would exceed its time budget).\n";
+    }
   }
   if (!report.notes.empty()) {
     out << "\nNotes:\n";
@@ -130,7 +136,7 @@ std::string toJson(const Report& report) {
       << ", \"sah\": " << jsonOpt(r.sah) << ", \"steps_mean\": " << jsonOpt(r.stepsMean)
       << ", \"steps_max\": " << jsonOpt(r.stepsMax) << ", \"box_tests_mean\": " << jsonOpt(r.boxTestsMean)
       << ", \"isects_mean\": " << jsonOpt(r.isectsMean) << ", \"isects_max\": " << jsonOpt(r.isectsMax)
-      << ", \"rays\": " << r.rays << ", \"timed_rays\": " << r.timedRays << ", \"mrays_st\": " << jsonNum(r.mraysSt)
+      << ", \"rays\": " << r.rays << ", \"timed_rays\": " << r.timedRays << ", \"counted_rays\": " << r.countedRays << ", \"mrays_st\": " << jsonNum(r.mraysSt)
       << ", \"mrays_mt\": " << jsonNum(r.mraysMt) << ", \"mismatches\": " << r.mismatches
       << ", \"mismatches_brute\": " << r.mismatchesBrute << ", \"brute_checked\": " << r.bruteChecked
       << ", \"mismatches_embree\": " << jsonOpt(r.mismatchesEmbree) << ", \"frozen_set\": {\"rays\": "
