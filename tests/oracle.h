@@ -24,6 +24,36 @@ struct OracleReport {
   std::string firstFailure;
 };
 
+// Adds one ray's closest hits (oracle `a`, tested `b`) and any-hit answers to
+// `rep`. Ties (another primitive at the same t, e.g. on a shared edge) agree.
+inline void recordAgreement(OracleReport& rep, const Ray& ray, const Hit& a, const Hit& b, bool occludedA,
+                            bool occludedB, float tolerance) {
+  const bool ha = a.valid(), hb = b.valid();
+  ++rep.rays;
+  rep.hits += ha ? 1 : 0;
+  bool ok = ha == hb;
+  if (ok && ha && (a.geomID != b.geomID || a.primID != b.primID || a.instID != b.instID)) {
+    const bool tie = std::fabs(a.t - b.t) <= std::max(1e-4f, tolerance) * std::max(1.0f, std::fabs(a.t));
+    rep.ties += tie ? 1 : 0;
+    ok = tie;
+  } else if (ok && ha) {
+    ok = std::fabs(a.t - b.t) <= tolerance * std::max(1.0f, std::fabs(a.t));
+  }
+  if (!ok) {
+    if (rep.wrong == 0) {
+      rep.firstFailure = "ray org (" + std::to_string(ray.org.x) + "," + std::to_string(ray.org.y) + "," +
+                         std::to_string(ray.org.z) + ") dir (" + std::to_string(ray.dir.x) + "," +
+                         std::to_string(ray.dir.y) + "," + std::to_string(ray.dir.z) + ") time " +
+                         std::to_string(ray.time) + ": oracle " + (ha ? "hit" : "miss") + " g" +
+                         std::to_string(a.geomID) + " p" + std::to_string(a.primID) + " t " + std::to_string(a.t) +
+                         ", tested " + (hb ? "hit" : "miss") + " g" + std::to_string(b.geomID) + " p" +
+                         std::to_string(b.primID) + " t " + std::to_string(b.t);
+    }
+    ++rep.wrong;
+  }
+  if (occludedA != occludedB) ++rep.anyWrong;
+}
+
 // `tolerance`: relative difference of t allowed for the same primitive and for
 // ties. mbrt's structures share the oracle's leaf test, so only traversal
 // order differs (1e-5); Embree evaluates vertices and triangles with its own
@@ -33,30 +63,9 @@ inline OracleReport compareWithOracle(const Accel& oracle, const Accel& tested, 
   OracleReport rep;
   for (const Ray& ray : rays) {
     Hit a, b;
-    const bool ha = oracle.intersect(ray, a), hb = tested.intersect(ray, b);
-    ++rep.rays;
-    rep.hits += ha ? 1 : 0;
-    bool ok = ha == hb;
-    if (ok && ha && (a.geomID != b.geomID || a.primID != b.primID || a.instID != b.instID)) {
-      const bool tie = std::fabs(a.t - b.t) <= std::max(1e-4f, tolerance) * std::max(1.0f, std::fabs(a.t));
-      rep.ties += tie ? 1 : 0;
-      ok = tie;
-    } else if (ok && ha) {
-      ok = std::fabs(a.t - b.t) <= tolerance * std::max(1.0f, std::fabs(a.t));
-    }
-    if (!ok) {
-      if (rep.wrong == 0) {
-        rep.firstFailure = "ray org (" + std::to_string(ray.org.x) + "," + std::to_string(ray.org.y) + "," +
-                           std::to_string(ray.org.z) + ") dir (" + std::to_string(ray.dir.x) + "," +
-                           std::to_string(ray.dir.y) + "," + std::to_string(ray.dir.z) + ") time " +
-                           std::to_string(ray.time) + ": oracle " + (ha ? "hit" : "miss") + " g" +
-                           std::to_string(a.geomID) + " p" + std::to_string(a.primID) + " t " +
-                           std::to_string(a.t) + ", tested " + (hb ? "hit" : "miss") + " g" +
-                           std::to_string(b.geomID) + " p" + std::to_string(b.primID) + " t " + std::to_string(b.t);
-      }
-      ++rep.wrong;
-    }
-    if (oracle.occluded(ray) != tested.occluded(ray)) ++rep.anyWrong;
+    oracle.intersect(ray, a);
+    tested.intersect(ray, b);
+    recordAgreement(rep, ray, a, b, oracle.occluded(ray), tested.occluded(ray), tolerance);
   }
   return rep;
 }
@@ -169,35 +178,8 @@ inline OracleReport compareWithOracleHits(const OracleAnswers& ref, const Accel&
   tested.intersect(rays, hits);
   tested.occluded(rays, occ);
   OracleReport rep;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const Hit& a = ref.hits[i];
-    const Hit& b = hits[i];
-    const bool ha = a.valid(), hb = b.valid();
-    ++rep.rays;
-    rep.hits += ha ? 1 : 0;
-    bool ok = ha == hb;
-    if (ok && ha && (a.geomID != b.geomID || a.primID != b.primID || a.instID != b.instID)) {
-      const bool tie = std::fabs(a.t - b.t) <= std::max(1e-4f, tolerance) * std::max(1.0f, std::fabs(a.t));
-      rep.ties += tie ? 1 : 0;
-      ok = tie;
-    } else if (ok && ha) {
-      ok = std::fabs(a.t - b.t) <= tolerance * std::max(1.0f, std::fabs(a.t));
-    }
-    if (!ok) {
-      if (rep.wrong == 0) {
-        const Ray& ray = rays[i];
-        rep.firstFailure = "ray org (" + std::to_string(ray.org.x) + "," + std::to_string(ray.org.y) + "," +
-                           std::to_string(ray.org.z) + ") dir (" + std::to_string(ray.dir.x) + "," +
-                           std::to_string(ray.dir.y) + "," + std::to_string(ray.dir.z) + ") time " +
-                           std::to_string(ray.time) + ": oracle " + (ha ? "hit" : "miss") + " g" +
-                           std::to_string(a.geomID) + " p" + std::to_string(a.primID) + " t " +
-                           std::to_string(a.t) + ", tested " + (hb ? "hit" : "miss") + " g" +
-                           std::to_string(b.geomID) + " p" + std::to_string(b.primID) + " t " + std::to_string(b.t);
-      }
-      ++rep.wrong;
-    }
-    if (bool(ref.occluded[i]) != bool(occ[i])) ++rep.anyWrong;
-  }
+  for (size_t i = 0; i < rays.size(); ++i)
+    recordAgreement(rep, rays[i], ref.hits[i], hits[i], bool(ref.occluded[i]), bool(occ[i]), tolerance);
   return rep;
 }
 
