@@ -109,7 +109,7 @@ add_test(NAME cli.bench_rays_file_make
          COMMAND mbrt_cli trace --scene translate --size 0.005 --generate 2000 --rays ${MBRT_CLI_OUT}/bench_rays.bin)
 add_test(NAME cli.bench_rays_file
          COMMAND mbrt_cli bench --quick --scene translate --size 0.005 --accel bvh-interp,stbvh --repeats 1
-                 --frozen-times 2 --rays-file ${MBRT_CLI_OUT}/bench_rays.bin)
+                 --frozen-times 2 --rays-file ${MBRT_CLI_OUT}/bench_rays.bin --svg ${MBRT_CLI_OUT}/bench.svg)
 set_tests_properties(cli.bench_rays_file PROPERTIES DEPENDS cli.bench_rays_file_make
   PASS_REGULAR_EXPRESSION "translate \\([0-9]+ primitives, 2000 rays\\).*\\| stbvh \\|")
 if(EXISTS "${PROJECT_SOURCE_DIR}/../shared/scenes/wooddoll_utah")

@@ -111,6 +111,10 @@ TEST(Bench, RunsEndToEndAndWritesTheJsonKeys) {
   EXPECT_FALSE(inString);
   EXPECT_NE(bench::toMarkdown(report).find("| accel |"), std::string::npos);
   EXPECT_NE(bench::toHtml(report).find("<svg"), std::string::npos);
+  const std::string svg = bench::toRatioSvg(report);
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("bvh-interp"), std::string::npos);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
 }
 
 TEST(Bench, AWrongStructureRaisesTheMismatchCount) {

@@ -37,7 +37,7 @@ std::string gitCommit() {
 }
 
 struct BenchArgs {
-  std::string scenes, accels, json, html;
+  std::string scenes, accels, json, html, svg;
   bool quick = false;
   double size = 0.0;
   int rays = 0;
@@ -69,6 +69,7 @@ void registerBenchCommand(CLI::App& app) {
                   "every k-th ray");
   cmd->add_option("--json", args->json, "Write every figure as JSON to this file");
   cmd->add_option("--html", args->html, "Write an HTML report with SVG bar charts to this file");
+  cmd->add_option("--svg", args->svg, "Write one SVG chart of rays/s relative to Embree, every scene, to this file");
   cmd->callback([args] {
     bench::Options o;
     if (args->quick) o.makeQuick();
@@ -122,6 +123,7 @@ void registerBenchCommand(CLI::App& app) {
     };
     if (!args->json.empty()) write(args->json, bench::toJson(report));
     if (!args->html.empty()) write(args->html, bench::toHtml(report));
+    if (!args->svg.empty()) write(args->svg, bench::toRatioSvg(report));
   });
 }
 

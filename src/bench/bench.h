@@ -114,6 +114,8 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes);
 std::string toMarkdown(const Report& report);
 std::string toJson(const Report& report);
 std::string toHtml(const Report& report);
+// Every structure's rays/s (all threads) over Embree's, per scene, as one SVG.
+std::string toRatioSvg(const Report& report);
 
 // Rays for a scene (exposed for tests): primaries from the camera at random
 // times, then one cosine bounce from each primary hit found by `reference`.

@@ -1,5 +1,6 @@
-// The benchmark's outputs: a markdown table, JSON and an HTML page of SVG
-// bar charts.
+// The benchmark's outputs: a markdown table, JSON, an HTML page of SVG bar
+// charts and one SVG chart of every structure's rays/s relative to Embree.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -212,6 +213,51 @@ std::string toHtml(const Report& report) {
   }
   o << "<pre>" << escapeXml(toMarkdown(report)) << "</pre></body></html>\n";
   return o.str();
+}
+
+}  // namespace mbrt::bench
+
+namespace mbrt::bench {
+
+std::string toRatioSvg(const Report& report) {
+  // Per scene, one bar per structure: rays/s on all threads divided by the
+  // reference's (Embree when it ran on the scene, else bvh-interp).
+  const double clip = 1.5;
+  const int labelW = 110, chartW = 540, barH = 12, gap = 2, sceneGap = 14, top = 40;
+  std::ostringstream body;
+  int y = top;
+  std::string refName = "embree";
+  for (const std::string& scene : sceneOrder(report)) {
+    const Result* ref = find(report, scene, "embree");
+    if (!ref) {
+      ref = find(report, scene, "bvh-interp");
+      refName = "bvh-interp";
+    }
+    if (!ref || !(ref->mraysMt > 0)) continue;
+    const int first = y;
+    for (const Result& r : report.results) {
+      if (r.scene != scene || &r == ref) continue;
+      const double ratio = r.mraysMt / ref->mraysMt;
+      const double w = std::min(ratio, clip) / clip * chartW;
+      const char* color = r.accel == "frozen" ? "#888" : ratio >= 1.0 ? "#3a8a4a" : "#3a78b8";
+      body << "<rect x='" << labelW << "' y='" << y << "' width='" << fmt(w, 4) << "' height='" << barH << "' fill='"
+           << color << "'/><text x='" << fmt(labelW + w + 4, 4) << "' y='" << y + barH - 2 << "' font-size='10'>"
+           << escapeXml(r.accel) << " " << fmt(ratio) << "</text>";
+      y += barH + gap;
+    }
+    body << "<text x='4' y='" << (first + y) / 2 + 4 << "' font-size='13' font-weight='bold'>" << escapeXml(scene)
+         << "</text>";
+    y += sceneGap;
+  }
+  const double oneX = labelW + chartW / clip;
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << labelW + chartW + 120 << "' height='" << y
+    << "' style='background:#fff'><text x='4' y='16' font-size='14' font-weight='bold'>Rays/s on " << report.threads
+    << " threads relative to " << (refName == "embree" ? "Embree" : refName) << " (bars clipped at " << fmt(clip)
+    << ")</text><line x1='" << fmt(oneX, 5) << "' y1='" << top - 10 << "' x2='" << fmt(oneX, 5) << "' y2='" << y
+    << "' stroke='#000' stroke-dasharray='4,3'/><text x='" << fmt(oneX + 4, 5) << "' y='" << top - 12
+    << "' font-size='11'>" << (refName == "embree" ? "Embree" : refName) << " = 1</text>" << body.str() << "</svg>\n";
+  return s.str();
 }
 
 }  // namespace mbrt::bench
