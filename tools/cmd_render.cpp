@@ -105,6 +105,10 @@ void run(RenderArgs& args) {
   if (args.shutter.size() != 2 || !(args.shutter[0] >= 0.0f && args.shutter[1] <= 1.0f && args.shutter[0] <= args.shutter[1]))
     throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
 
+  // Only fuzzykd has motion clusters: refused before the scene is loaded.
+  if (*integrator == IntegratorKind::Clusters &&
+      (args.accel.accel != "fuzzykd" || (!args.compare.empty() && args.compare != "fuzzykd")))
+    throw UsageError("--integrator clusters needs --accel fuzzykd (the motion clusters of its decomposition)");
   if (!args.compare.empty()) {
     const auto kind = parseAccelKind(args.compare);
     const auto kinds = availableAccelKinds();
