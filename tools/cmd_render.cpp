@@ -37,6 +37,7 @@ struct RenderArgs {
   std::string out = "mbrt.png";
   std::string integrator = "path";
   std::vector<float> shutter{0.0f, 1.0f};
+  std::vector<float> cameraShutter;  // for inputs with their own clock: the part the camera sees
   RenderOptions options;
   int threads = 0;
   float aperture = -1.0f;  // < 0: the scene's camera
@@ -104,6 +105,10 @@ void run(RenderArgs& args) {
   if (args.shutter.size() != 2 || !(args.shutter[0] >= 0.0f && args.shutter[1] <= 1.0f && args.shutter[0] <= args.shutter[1]))
     throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
 
+  // Only fuzzykd has motion clusters: refused before the scene is loaded.
+  if (*integrator == IntegratorKind::Clusters &&
+      (args.accel.accel != "fuzzykd" || (!args.compare.empty() && args.compare != "fuzzykd")))
+    throw UsageError("--integrator clusters needs --accel fuzzykd (the motion clusters of its decomposition)");
   if (!args.compare.empty()) {
     const auto kind = parseAccelKind(args.compare);
     const auto kinds = availableAccelKinds();
@@ -134,6 +139,13 @@ void run(RenderArgs& args) {
                        "' (the part of the normalized shutter to render), got '" + args.scene.shutter + "'");
     opt.shutterOpen = a;
     opt.shutterClose = b;
+  }
+  if (!args.cameraShutter.empty()) {
+    if (args.cameraShutter.size() != 2 || !(args.cameraShutter[0] >= 0.0f && args.cameraShutter[1] <= 1.0f &&
+                                            args.cameraShutter[0] <= args.cameraShutter[1]))
+      throw UsageError("--camera-shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
+    opt.shutterOpen = args.cameraShutter[0];
+    opt.shutterClose = args.cameraShutter[1];
   }
   if (args.aperture >= 0.0f) loaded.camera.apertureRadius = args.aperture;
   if (args.focus >= 0.0f) loaded.camera.focusDistance = args.focus;
@@ -240,6 +252,11 @@ void registerRenderCommand(CLI::App& app) {
         ->delimiter(',')
         ->expected(2)
         ->capture_default_str();
+  cmd->add_option("--camera-shutter", args->cameraShutter,
+                  "Part A,B of the normalized shutter [0,1] the camera sees when --shutter is in the input's own "
+                  "time (glTF seconds): e.g. 0.5,0.5 renders a sharp middle frame of a scene loaded over a whole clip")
+      ->delimiter(',')
+      ->expected(2);
   cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

@@ -28,11 +28,12 @@ enum class IntegratorKind {
   Path,        // diffuse path tracing, directional lights + sky (STBVH paper)
   HeatSteps,   // nodes visited per primary ray, colour-mapped, with a colour bar
   HeatIsects,  // ray-primitive tests per primary ray, likewise
+  Clusters,    // primary visibility coloured by fuzzykd's motion cluster (fuzzykd only)
 };
 
 std::string_view toString(IntegratorKind kind);
 std::optional<IntegratorKind> parseIntegratorKind(std::string_view name);
-// "normals, ao, path, heat-steps, heat-isects"
+// "normals, ao, path, heat-steps, heat-isects, clusters"
 std::string integratorKindList();
 inline bool isHeatMap(IntegratorKind k) { return k == IntegratorKind::HeatSteps || k == IntegratorKind::HeatIsects; }
 

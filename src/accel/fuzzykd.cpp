@@ -1,7 +1,6 @@
 #include "accel/fuzzykd.h"
 
 #include <chrono>
-#include <map>
 
 #include <tbb/parallel_for.h>
 
@@ -20,12 +19,40 @@ constexpr uint32_t kMinClusterTriangles = 4;
 constexpr uint32_t kMaxSubdivisions = 16;
 constexpr double kNumericPad = 2e-5;
 
+// Depth limit of a cluster's tree: the kd core's 8 + 1.3 log2(N) less three
+// levels. A fuzzy box holds its triangle in every frame, so it is larger
+// than the triangle in any one: the deepest cells of a static tree, which
+// separate neighbouring triangles, cannot separate their fuzzy boxes and
+// only duplicate references. Cutting them is what brings the fuzzy trees
+// to <= 1.5x a per-frame tree's memory at 1.2-1.6x its work per ray
+// (docs/fuzzykd.md, the sweep).
+constexpr int kFuzzyDepthCut = 3;
+int fuzzyTreeDepth(size_t prims) {
+  return std::max(1, int(8.0 + 1.3 * std::log2(double(std::max<size_t>(prims, 1)))) - kFuzzyDepthCut);
+}
+
+// A cluster's kd-tree in compact form: the kd core's nodes, and leaf
+// references without the time interval (a fuzzy box holds over the whole
+// shutter, so every interval would be [0, 1]): 4 bytes per reference.
+struct FuzzyTree {
+  std::vector<KdNode> nodes;
+  std::vector<uint32_t> refs;  // indices into the cluster's prims
+  Box3f root;
+  uint32_t depth = 0;
+
+  explicit FuzzyTree(const KdTree& t = {}) : nodes(t.nodes), root(t.root), depth(t.depth) {
+    refs.reserve(t.refs.size());
+    for (const KdLeafRef& r : t.refs) refs.push_back(r.prim);
+  }
+  size_t bytes() const { return nodes.size() * sizeof(KdNode) + refs.size() * sizeof(uint32_t); }
+};
+
 struct Cluster {
   uint32_t geomID = 0;
   std::vector<Affine3f> xfm;  // per geometry step: local -> world
   std::vector<Box3f> keyBoxes;  // world, per step
   std::vector<PrimRef> prims;
-  KdTree tree;
+  FuzzyTree tree;
 };
 
 struct TopNode {
@@ -33,6 +60,27 @@ struct TopNode {
   uint32_t left = 0, right = 0;  // inner: children
   uint32_t item = ~0u;           // leaf: cluster index (clusters.size(): the world tree)
 };
+
+// Calls fn(node, cell, depth) for every node of a kd-tree, cells split at
+// the nodes' planes.
+template <class Fn>
+void walkCells(const std::vector<KdNode>& nodes, uint32_t node, const Box3f& cell, const Fn& fn, int depth = 1) {
+  fn(node, cell, depth);
+  const KdNode& n = nodes[node];
+  if (n.isLeaf()) return;
+  Box3f l = cell, r = cell;
+  l.upper[n.axis()] = n.split();
+  r.lower[n.axis()] = n.split();
+  walkCells(nodes, node + 1, l, fn, depth + 1);
+  walkCells(nodes, n.rightChild(), r, fn, depth + 1);
+}
+
+// Surface area of the parallelepiped a local box becomes under the map m.
+double mappedArea(const Affine3f& m, const Box3f& box) {
+  const Vec3f e = box.upper - box.lower;
+  const Vec3f a = m.vx * e.x, b = m.vy * e.y, c = m.vz * e.z;
+  return 2.0 * (double(length(cross(a, b))) + double(length(cross(b, c))) + double(length(cross(c, a))));
+}
 
 bool finiteBounds(const LBounds& b) {
   return isFinite(b.b0.lower) && isFinite(b.b0.upper) && isFinite(b.b1.lower) && isFinite(b.b1.upper) &&
@@ -62,8 +110,10 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
         world.insert(world.end(), perGeometry[g].begin(), perGeometry[g].end());
     stats_.decomposeSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
     const auto t1 = Clock::now();
+    clusterOfPrim_.resize(scene.numGeometries());
+    for (uint32_t g = 0; g < scene.numGeometries(); ++g) clusterOfPrim_[g].assign(ctx.geometry(g).numPrimitives(), ~0u);
     for (const Cluster& c : clusters_)
-      for (const PrimRef& p : c.prims) clusterOfPrim_[key(p)] = uint32_t(&c - clusters_.data());
+      for (const PrimRef& p : c.prims) clusterOfPrim_[p.geomID][p.primID] = uint32_t(&c - clusters_.data());
     worldPrims_ = std::move(world);
     buildTop();
     stats_.treeSeconds = std::chrono::duration<double>(Clock::now() - t1).count();
@@ -73,11 +123,13 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     for (const Cluster& c : clusters_) {
       stats_.fuzzyPrims += c.prims.size();
       stats_.fuzzyTreeBytes += c.tree.bytes();
+      stats_.fuzzyNodes += c.tree.nodes.size();
+      stats_.fuzzyRefs += c.tree.refs.size();
       stats_.topBytes += c.xfm.size() * sizeof(Affine3f) + c.keyBoxes.size() * sizeof(Box3f) +
                          c.prims.size() * sizeof(PrimRef);
     }
     stats_.topBytes += top_.size() * sizeof(TopNode);
-    sceneArea_ = sceneSahArea(ctx);
+    computeSah();
   }
 
   bool intersect(RayQuery& ray, Hit& hit) const override { return traverse<false, false>(ray, &hit, nullptr); }
@@ -96,26 +148,24 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     }
     s.maxDepth = std::max<size_t>(s.maxDepth, worldTree_.depth);
     size_t leaves = 0;
-    auto countLeaves = [&](const KdTree& t) {
-      for (const KdNode& n : t.nodes) leaves += n.isLeaf();
+    auto countLeaves = [&](const std::vector<KdNode>& nodes) {
+      for (const KdNode& n : nodes) leaves += n.isLeaf();
     };
-    countLeaves(worldTree_);
-    for (const Cluster& c : clusters_) countLeaves(c.tree);
+    countLeaves(worldTree_.nodes);
+    for (const Cluster& c : clusters_) countLeaves(c.tree.nodes);
     s.leafNodes = leaves;
     s.innerNodes = nodes - leaves;
     s.bytes = stats_.fuzzyTreeBytes + stats_.worldTreeBytes + stats_.topBytes;
-    s.sahCost = 0.0;
+    s.sahCost = sahCost_;
   }
 
   const FuzzyKdStats& fuzzyStats() const override { return stats_; }
   uint32_t clusterOf(PrimRef p) const override {
-    const auto it = clusterOfPrim_.find(key(p));
-    return it == clusterOfPrim_.end() ? ~0u : it->second;
+    if (p.geomID >= clusterOfPrim_.size() || p.primID >= clusterOfPrim_[p.geomID].size()) return ~0u;
+    return clusterOfPrim_[p.geomID][p.primID];
   }
 
  private:
-  static uint64_t key(PrimRef p) { return (uint64_t(p.geomID) << 32) | p.primID; }
-
   // Decomposes one geometry into clusters; false: all its primitives go
   // to the world tree. Small clusters and unsafe ones are sent there too
   // (through `rest`).
@@ -233,8 +283,11 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     for (const Box3f& b : boxes) root.extend(b);
     KdBuildParams params;
     params.sah.traversal = ctx_.options().traversalCost;
+    params.maxDepth = fuzzyTreeDepth(paths.size());
     KdBuildStats bs;
-    buildKdTree(paths, root, params, ctx_.budget(), c.tree, bs);
+    KdTree tree;
+    buildKdTree(paths, root, params, ctx_.budget(), tree, bs);
+    c.tree = FuzzyTree(tree);
     c.keyBoxes.assign(K, Box3f{});
     for (const PrimRef& p : prims)
       for (uint32_t k = 0; k < K; ++k) c.keyBoxes[k].extend(ctx_.keyBox(p, k));
@@ -363,7 +416,7 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     const Affine3f inv = xfm.inverse();
     RayQuery local;
     local.setup(inv.xfmPoint(ray.org), inv.xfmVector(ray.dir), ray.tnear, ray.tfar, ray.time, ray.mask);
-    const KdTree& tree = c.tree;
+    const FuzzyTree& tree = c.tree;
     float tmin, tmax;
     if (!clipToBox(local, tree.root, tmin, tmax)) return false;
     struct Item {
@@ -387,15 +440,15 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
         });
         continue;
       }
-      const KdLeafRef* refs = tree.refs.data() + n.first();
+      const uint32_t* refs = tree.refs.data() + n.first();
       for (uint32_t i = 0, cnt = n.count(); i < cnt; ++i) {
-        const KdLeafRef& r = refs[i];
-        if (mailbox.seen(r.prim)) continue;
+        const uint32_t prim = refs[i];
+        if (mailbox.seen(prim)) continue;
         if constexpr (Count) ++counters->primitiveTests;
         if constexpr (AnyHit) {
-          if (occludedPrimitive(ctx_, c.prims[r.prim], ray)) return true;
+          if (occludedPrimitive(ctx_, c.prims[prim], ray)) return true;
         } else {
-          if (intersectPrimitive(ctx_, c.prims[r.prim], ray, *hit, Count ? counters : nullptr)) {
+          if (intersectPrimitive(ctx_, c.prims[prim], ray, *hit, Count ? counters : nullptr)) {
             found = true;
             local.tfar = ray.tfar;
           }
@@ -413,6 +466,58 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     }
   }
 
+  // DESIGN.md's SAH (C_T = C_I = 1, areas averaged over 8 times). Top-level
+  // nodes count with their linear bounds; a cluster with its world key box
+  // and its tree's cells, whose area is that of the cell's image in world
+  // space (a parallelepiped under the cluster's map at each time, §3: the
+  // ray is mapped into the cell's frame, so that is the area it must hit);
+  // a leaf counts the active segments of its triangles. The world tree's
+  // cells count as mbkd's.
+  void computeSah() {
+    const double sceneArea = sceneSahArea(ctx_);
+    if (!(sceneArea > 0.0)) return;
+    constexpr int kTimes = 8;
+    double sum = 0.0;
+    for (const TopNode& n : top_) sum += meanSurfaceArea(n.bounds);
+    for (const Cluster& c : clusters_) {
+      const Geometry& geo = ctx_.geometry(c.geomID);
+      Affine3f xfm[kTimes];
+      for (int k = 0; k < kTimes; ++k) {
+        uint32_t s;
+        float f;
+        geo.segmentAt(float(k) / (kTimes - 1), s, f);
+        xfm[k] = lerp(c.xfm[s], c.xfm[s + 1], f);
+        sum += double(lerp(c.keyBoxes[s], c.keyBoxes[s + 1], f).area()) / kTimes;
+      }
+      walkCells(c.tree.nodes, 0, c.tree.root, [&](uint32_t node, const Box3f& cell, int) {
+        double area = 0.0;
+        for (const Affine3f& m : xfm) area += mappedArea(m, cell) / kTimes;
+        const KdNode& n = c.tree.nodes[node];
+        double seg = 1.0;
+        if (n.isLeaf()) {
+          seg = 0.0;
+          for (uint32_t i = 0; i < n.count(); ++i)
+            seg += activeSegments(ctx_, c.prims[c.tree.refs[n.first() + i]], {0.0f, 1.0f});
+        }
+        sum += area * seg;
+      });
+    }
+    if (!worldTree_.empty())
+      walkCells(worldTree_.nodes, 0, worldTree_.root, [&](uint32_t node, const Box3f& cell, int) {
+        const KdNode& n = worldTree_.nodes[node];
+        double seg = 1.0;
+        if (n.isLeaf()) {
+          seg = 0.0;
+          for (uint32_t i = 0; i < n.count(); ++i) {
+            const KdLeafRef& r = worldTree_.refs[n.first() + i];
+            seg += activeSegments(ctx_, worldPrims_[r.prim], {r.t0, r.t1});
+          }
+        }
+        sum += double(cell.area()) * seg;
+      });
+    sahCost_ = sum / sceneArea;
+  }
+
   struct BoxFilter {
     static constexpr bool kActive = true;
     const KdPaths& paths;
@@ -426,13 +531,25 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
   KdPaths worldPaths_;
   KdTree worldTree_;
   std::vector<TopNode> top_;
-  std::map<uint64_t, uint32_t> clusterOfPrim_;
+  std::vector<std::vector<uint32_t>> clusterOfPrim_;  // [geomID][primID]
   FuzzyKdStats stats_;
-  double sceneArea_ = 0.0;
+  double sahCost_ = 0.0;
 };
 
 }  // namespace
 
 std::unique_ptr<Structure> makeFuzzyKd(const SceneContext& context) { return std::make_unique<FuzzyKd>(context); }
+
+std::vector<std::vector<uint32_t>> fuzzyKdClusters(const Scene& scene, const BuildOptions& options) {
+  BuildBudget budget(options.memoryBudget);
+  const SceneContext ctx(scene, options, budget);
+  const FuzzyKd fuzzy(ctx);
+  std::vector<std::vector<uint32_t>> out(scene.numGeometries());
+  for (uint32_t g = 0; g < scene.numGeometries(); ++g) {
+    out[g].resize(ctx.geometry(g).numPrimitives());
+    for (uint32_t p = 0; p < out[g].size(); ++p) out[g][p] = fuzzy.clusterOf({g, p});
+  }
+  return out;
+}
 
 }  // namespace mbrt::detail

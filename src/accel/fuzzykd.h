@@ -41,7 +41,8 @@ struct FuzzyKdStats {
   size_t clusters = 0;          // clusters with a fuzzy tree
   size_t fallbackClusters = 0;  // clusters whose triangles went to the world tree
   size_t fuzzyPrims = 0, worldPrims = 0;
-  size_t fuzzyTreeBytes = 0;    // all bottom-level fuzzy trees (nodes + references)
+  size_t fuzzyTreeBytes = 0;    // all bottom-level fuzzy trees: 8-byte nodes, 4-byte references
+  size_t fuzzyNodes = 0, fuzzyRefs = 0;  // their nodes and leaf references
   size_t worldTreeBytes = 0;
   size_t topBytes = 0;          // top-level nodes, transforms, key boxes
   double fuzzyBoxArea = 0;      // sum of the triangles' fuzzy-box areas (local, padded)
@@ -59,5 +60,11 @@ class FuzzyKdInspect {
   // The cluster of a primitive (~0u: in the world tree).
   virtual uint32_t clusterOf(PrimRef prim) const = 0;
 };
+
+// The clusters of the fuzzykd structure that `options` builds over `scene`
+// (the build is deterministic: the same as an Accel's), per geometry and
+// primitive: [geomID][primID], ~0u for primitives in the world tree. For the
+// renderer's cluster picture (the paper's Fig. 1).
+std::vector<std::vector<uint32_t>> fuzzyKdClusters(const Scene& scene, const BuildOptions& options);
 
 }  // namespace mbrt::detail

@@ -1,8 +1,9 @@
 // What every integrator sees, and the one entry point per integrator (one
-// file each: normals.cpp, ao.cpp, path.cpp, heat.cpp).
+// file each: normals.cpp, ao.cpp, path.cpp, heat.cpp, clusters.cpp).
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "mbrt/render.h"
 #include "render/sampler.h"
@@ -15,6 +16,8 @@ struct Context {
   const RenderOptions& options;
   float aoDistance = 1.0f;  // occlusion ray length
   float epsilon = 1e-4f;    // ray offset off surfaces, scaled to the scene
+  // `clusters`: fuzzykd's cluster per [geomID][primID] (~0u: none).
+  const std::vector<std::vector<uint32_t>>* clusters = nullptr;
 };
 
 // What one camera sample returns: a colour, or for heat maps a work count
@@ -29,5 +32,7 @@ SampleResult traceNormals(const Context& ctx, const Ray& ray, Sampler& sampler);
 SampleResult traceAo(const Context& ctx, const Ray& ray, Sampler& sampler);
 SampleResult tracePath(const Context& ctx, const Ray& ray, Sampler& sampler);
 SampleResult traceHeat(const Context& ctx, const Ray& ray, Sampler& sampler);
+SampleResult traceClusters(const Context& ctx, const Ray& ray, Sampler& sampler);
+Vec3f clusterColor(uint32_t cluster);
 
 }  // namespace mbrt::renderer

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <mutex>
 
+#include "accel/fuzzykd.h"
 #include "mbrt/render.h"
 #include "render/film.h"
 #include "render/integrator.h"
@@ -23,7 +24,8 @@ constexpr IntegratorName kIntegrators[] = {{IntegratorKind::Normals, "normals"},
                                            {IntegratorKind::Ao, "ao"},
                                            {IntegratorKind::Path, "path"},
                                            {IntegratorKind::HeatSteps, "heat-steps"},
-                                           {IntegratorKind::HeatIsects, "heat-isects"}};
+                                           {IntegratorKind::HeatIsects, "heat-isects"},
+                                           {IntegratorKind::Clusters, "clusters"}};
 
 // The camera ray of one sample; consumes the sampler's first five dimensions.
 Ray cameraSample(const RenderCamera& camera, const RenderOptions& o, int x, int y, int s, renderer::Sampler& smp) {
@@ -99,6 +101,17 @@ RenderResult render(const SceneDescription& scene, const Accel& accel, const Ren
     case IntegratorKind::Path: trace = renderer::tracePath; break;
     case IntegratorKind::HeatSteps:
     case IntegratorKind::HeatIsects: trace = renderer::traceHeat; break;
+    case IntegratorKind::Clusters: trace = renderer::traceClusters; break;
+  }
+  // The clusters of the structure rendered (its build is deterministic, so
+  // building the decomposition again gives the same clusters).
+  std::vector<std::vector<uint32_t>> clusters;
+  if (o.integrator == IntegratorKind::Clusters) {
+    if (accel.options().kind != AccelKind::FuzzyKd)
+      throw Error("render: the clusters integrator needs the fuzzykd structure, not " +
+                  std::string(toString(accel.options().kind)));
+    clusters = detail::fuzzyKdClusters(accel.scene(), accel.options());
+    ctx.clusters = &clusters;
   }
   const bool heat = isHeatMap(o.integrator);
 
