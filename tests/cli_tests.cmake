@@ -130,3 +130,16 @@ add_test(NAME cli.error_render_spp_huge COMMAND mbrt_cli render --scene ${MBRT_C
 set_tests_properties(cli.error_render_spp_huge PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*--spp")
 add_test(NAME cli.error_render_total COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --width 16384 --height 16384 --spp 65536 -o ${MBRT_CLI_OUT}/t.png)
 set_tests_properties(cli.error_render_total PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: render: width x height x spp")
+
+# The fuzzy kd-tree's cluster picture (its paper's Fig. 1), a sharp instant of
+# the shutter, and their usage errors.
+add_test(NAME cli.render_clusters
+         COMMAND mbrt_cli render skinned --size 0.05 --accel fuzzykd --integrator clusters --camera-shutter 0.5,0.5
+                 --width 24 --height 24 --spp 1 -o ${MBRT_CLI_OUT}/clusters.png)
+set_tests_properties(cli.render_clusters PROPERTIES PASS_REGULAR_EXPRESSION "wrote +.*clusters.png")
+add_test(NAME cli.error_render_clusters_accel
+         COMMAND mbrt_cli render skinned --size 0.05 --accel bvh-interp --integrator clusters -o ${MBRT_CLI_OUT}/c.png)
+set_tests_properties(cli.error_render_clusters_accel PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*fuzzykd")
+add_test(NAME cli.error_render_camera_shutter
+         COMMAND mbrt_cli render demo --camera-shutter 0.7,0.2 -o ${MBRT_CLI_OUT}/c.png)
+set_tests_properties(cli.error_render_camera_shutter PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*camera-shutter")
