@@ -1,6 +1,7 @@
 #include "accel/mbkd.h"
 
 #include <bit>
+#include <unordered_map>
 
 #include "bvh/sah_cost.h"
 #include "geometry/primitive_bounds.h"
@@ -29,13 +30,13 @@ class Mbkd final : public Structure, public KdInspect {
     Box3f root;  // extended root cell: every primitive over the whole shutter
     for (uint32_t i = 0; i < paths.size(); ++i) root.extend(paths.hull(i));
     KdBuildParams params;
-    params.sah.traversal = ctx.options().traversalCost;
+    params.sah.traversal = ctx.options().traversalCost * (blockLeaves_ ? kBlockStepWeight : 1.0f);
     buildKdTree(paths, root, params, ctx.budget(), tree_, stats_);
     computeSah();
     paths_ = {};  // the build's key boxes; the leaves keep what they need
     if (blockLeaves_) {
       ctx.budget().charge(tree_.refs.size() / kKdBlockLanes * sizeof(KdLeafBlock), "the kd-tree leaf blocks");
-      blocks_ = KdLeafBlocks::build(tree_, [&](uint32_t prim, TimeRange r) { return referenceBounds(prim, r); });
+      blocks_ = KdLeafBlocks::build(tree_, prims_.data(), [&](uint32_t prim, TimeRange r) { return referenceBounds(prim, r); });
       tree_.refs = {};  // now in the blocks
     }
   }
@@ -61,6 +62,9 @@ class Mbkd final : public Structure, public KdInspect {
   void forEachLeaf(
       const std::function<void(const Box3f&, const PrimRef*, std::span<const KdLeafRef>)>& fn) const override {
     std::vector<KdLeafRef> refs;
+    auto key = [](PrimRef p) { return uint64_t(p.geomID) << 32 | p.primID; };
+    std::unordered_map<uint64_t, uint32_t> index;  // primitive -> its index in prims_
+    for (uint32_t i = 0; blockLeaves_ && i < prims_.size(); ++i) index[key(prims_[i])] = i;
     walk(0, tree_.root, [&](uint32_t node, const Box3f& cell, int) {
       const KdNode& n = tree_.nodes[node];
       if (!n.isLeaf()) return;
@@ -70,10 +74,11 @@ class Mbkd final : public Structure, public KdInspect {
       }
       refs.clear();
       const KdNode& b = blocks_.cells.nodes[node];
-      for (uint32_t k = b.first(); k < b.first() + b.count(); ++k)
+      for (uint32_t k = b.first(); k < b.first() + b.count(); ++k) {
+        const KdLeafBlock& block = blocks_.blocks[k];
         for (int lane = 0; lane < kKdBlockLanes; ++lane)
-          if (blocks_.blocks[k].t0[lane] <= blocks_.blocks[k].t1[lane])
-            refs.push_back({blocks_.blocks[k].prim[lane], blocks_.blocks[k].t0[lane], blocks_.blocks[k].t1[lane]});
+          if (block.t0[lane] <= block.t1[lane]) refs.push_back({index.at(key(block.prim[lane])), block.t0[lane], block.t1[lane]});
+      }
       fn(cell, prims_.data(), refs);
     });
   }
@@ -133,11 +138,12 @@ class Mbkd final : public Structure, public KdInspect {
   // the leaf.
   template <bool AnyHit, bool Count>
   bool traceBlocks(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
-    KdMailbox mailbox;
+    KdPrimMailbox mailbox;
     const KdBlockRay blockRay(ray);
     const float time = ray.time;
     return kdWalk<AnyHit, Count>(blocks_.cells, ray, counters, [&](const KdNode& n) {
       bool found = false;
+      blocks_.prefetch(n);
       for (uint32_t k = n.first(), end = n.first() + n.count(); k < end; ++k) {
         const KdLeafBlock& block = blocks_.blocks[k];
         if (block.t0[0] > time) break;
@@ -145,13 +151,13 @@ class Mbkd final : public Structure, public KdInspect {
         const uint32_t alive = kdBlockTest(block, blockRay, ray.tfar, hits);
         if constexpr (Count) counters->boxTests += uint64_t(std::popcount(alive));
         for (; hits != 0; hits &= hits - 1) {
-          const uint32_t prim = block.prim[std::countr_zero(hits)];
+          const PrimRef prim = block.prim[std::countr_zero(hits)];
           if (mailbox.seen(prim)) continue;
           if constexpr (Count) ++counters->primitiveTests;
           if constexpr (AnyHit) {
-            if (occludedPrimitive(ctx_, prims_[prim], ray)) return true;
+            if (occludedPrimitive(ctx_, prim, ray)) return true;
           } else {
-            found |= intersectPrimitive(ctx_, prims_[prim], ray, *hit, Count ? counters : nullptr);
+            found |= intersectPrimitive(ctx_, prim, ray, *hit, Count ? counters : nullptr);
           }
         }
       }
@@ -166,6 +172,12 @@ class Mbkd final : public Structure, public KdInspect {
   // primitive's box at the ray's time (kd_leaf_blocks.h); false is the
   // paper's leaf (interval check only). See docs/mbkd.md.
   bool blockLeaves_ = true;
+  // With block leaves a reference costs a lane of a streamed 8-wide test,
+  // while a cell step is a dependent load: the build weighs a step as this
+  // many reference tests more than the paper's K_T (measured: 8-64 trade
+  // steps for leaf size, 16 is the fastest on hairball and skinned with the
+  // least memory but one; docs/mbkd.md).
+  static constexpr float kBlockStepWeight = 16.0f;
   KdLeafBlocks blocks_;
   KdTree tree_;
   KdBuildStats stats_;

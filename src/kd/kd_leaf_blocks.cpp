@@ -11,15 +11,15 @@ namespace {
 void clearLane(KdLeafBlock& b, int lane) {
   b.t0[lane] = kInf;
   b.t1[lane] = -kInf;
-  b.prim[lane] = 0;
+  b.prim[lane] = {kInvalidId, kInvalidId};
   for (int a = 0; a < 3; ++a)
     for (int k = 0; k < 4; ++k) b.plane[a][k][lane] = 0.0f;
 }
 
-void setLane(KdLeafBlock& b, int lane, const KdLeafRef& r, const LBounds& lb) {
+void setLane(KdLeafBlock& b, int lane, const KdLeafRef& r, PrimRef prim, const LBounds& lb) {
   b.t0[lane] = r.t0;
   b.t1[lane] = r.t1;
-  b.prim[lane] = r.prim;
+  b.prim[lane] = prim;
   for (int a = 0; a < 3; ++a) {
     b.plane[a][0][lane] = lb.b0.lower[a];
     b.plane[a][1][lane] = lb.b0.upper[a];
@@ -30,7 +30,8 @@ void setLane(KdLeafBlock& b, int lane, const KdLeafRef& r, const LBounds& lb) {
 
 }  // namespace
 
-KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const std::function<LBounds(uint32_t, TimeRange)>& bounds) {
+KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const PrimRef* prims,
+                                 const std::function<LBounds(uint32_t, TimeRange)>& bounds) {
   KdLeafBlocks out;
   out.cells.nodes = tree.nodes;
   out.cells.root = tree.root;
@@ -50,7 +51,7 @@ KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const std::function<LBounds
       KdLeafBlock& b = out.blocks[first + i / kKdBlockLanes];
       const int lane = int(i % kKdBlockLanes);
       if (i < refs.size())
-        setLane(b, lane, refs[i], bounds(refs[i].prim, {refs[i].t0, refs[i].t1}));
+        setLane(b, lane, refs[i], prims[refs[i].prim], bounds(refs[i].prim, {refs[i].t0, refs[i].t1}));
       else
         clearLane(b, lane);
     }

@@ -11,10 +11,12 @@
 // intervals holds the ray's time stops after its first 64 bytes.
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <vector>
 
 #include "bvh/simd.h"
+#include "core/scene_context.h"
 #include "geometry/ray_query.h"
 #include "kd/kd_node.h"
 
@@ -26,9 +28,9 @@ struct alignas(32) KdLeafBlock {
   float t0[kKdBlockLanes], t1[kKdBlockLanes];  // lane alive in [t0, t1]; empty lanes never
   // plane[axis][0|1][lane]: lower|upper side at t = 0; [2|3]: its change to t = 1.
   float plane[3][4][kKdBlockLanes];
-  uint32_t prim[kKdBlockLanes];
+  PrimRef prim[kKdBlockLanes];  // the primitive itself: no indirection before its test
 };
-static_assert(sizeof(KdLeafBlock) == 480);
+static_assert(sizeof(KdLeafBlock) == 512);
 
 // The blocks of a kd-tree's leaves. `cells` is the tree without its
 // references, each leaf's word = first block and count = number of blocks.
@@ -38,9 +40,32 @@ struct KdLeafBlocks {
 
   size_t bytes() const { return cells.bytes() + blocks.size() * sizeof(KdLeafBlock); }
 
-  // bounds(prim, [t0, t1]) = conservative (widened) linear bounds of the
-  // primitive over the reference's interval, at t = 0 and t = 1.
-  static KdLeafBlocks build(const KdTree& tree, const std::function<LBounds(uint32_t, TimeRange)>& bounds);
+  // The references' primitives are prims[ref.prim]; bounds(ref.prim,
+  // [t0, t1]) = conservative (widened) linear bounds of the primitive over
+  // the reference's interval, at t = 0 and t = 1.
+  static KdLeafBlocks build(const KdTree& tree, const PrimRef* prims,
+                            const std::function<LBounds(uint32_t, TimeRange)>& bounds);
+
+  // Starts loading a leaf's blocks (their interval lines) before the test.
+  void prefetch(const KdNode& leaf) const {
+    for (uint32_t k = leaf.first(), end = leaf.first() + std::min(leaf.count(), 8u); k < end; ++k)
+      _mm_prefetch(reinterpret_cast<const char*>(&blocks[k]), _MM_HINT_T0);
+  }
+};
+
+// The kd mailbox (kd_traverse.h) keyed by the primitive itself.
+struct KdPrimMailbox {
+  PrimRef slot[16];
+  KdPrimMailbox() {
+    for (PrimRef& s : slot) s = {kInvalidId, kInvalidId};
+  }
+  // True when `p` was tested already; records it otherwise.
+  bool seen(PrimRef p) {
+    PrimRef& s = slot[(p.primID ^ (p.geomID * 0x9e3779b1u)) & 15u];
+    if (s.primID == p.primID && s.geomID == p.geomID) return true;
+    s = p;
+    return false;
+  }
 };
 
 // The ray broadcast for the block test.
