@@ -1,6 +1,7 @@
 // mbkd (Yang et al. 2017) and the kd-tree core: the static kd-tree against
 // brute force, a fast-moving triangle crossing every plane, conservative leaf
-// time intervals (sampled), build statistics (the paper's Table 2).
+// time intervals (sampled), the SIMD leaf block test at its interval ends,
+// build statistics (the paper's Table 2).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "accel/mbkd.h"
 #include "core/scene_context.h"
 #include "kd/kd_builder.h"
+#include "kd/kd_leaf_blocks.h"
 #include "oracle.h"
 #include "test_util.h"
 
@@ -184,10 +186,11 @@ TEST(Mbkd, LeafTimeIntervalsAreConservative) {
   EXPECT_EQ(failures, 0u) << first;
 }
 
-// The paper's Table 2 and 3 figures on two suite scenes at small size.
+// The paper's Table 2 and 3 figures on three suite scenes at small size
+// (MBRT_TEST_SCALE=50: the default sizes, as in docs/mbkd.md).
 TEST(Mbkd, BuildStatisticsLikeTable2) {
   for (const char* name : {"hairball", "skinned", "rotate"}) {
-    const ProceduralScene ps = makeProceduralScene(name, 0.02, 5);
+    const ProceduralScene ps = makeProceduralScene(name, 0.02 * test::testScale(), 5);
     BuildOptions o;
     o.kind = AccelKind::Mbkd;
     detail::BuildBudget budget;
@@ -207,6 +210,48 @@ TEST(Mbkd, BuildStatisticsLikeTable2) {
     EXPECT_GT(refs, s.primitives / 2);
     EXPECT_EQ(as.references, refs);
   }
+}
+
+// The block test (kd_leaf_blocks.h): a lane is alive exactly on its closed
+// interval (ends, 0 and 1 included), padding lanes never, and an alive
+// lane's box is the linear bounds at the ray's time.
+TEST(Mbkd, LeafBlockLanesAreAliveOnTheirClosedIntervals) {
+  // One leaf, three references of primitive 0: a unit box moving +x by 4
+  // over the shutter, alive on [0, 0.25], [0.5, 0.5] and [0.75, 1].
+  detail::KdTree tree;
+  tree.nodes.push_back(detail::KdNode::leaf(0, 3));
+  tree.refs = {{0, 0.75f, 1.0f}, {0, 0.0f, 0.25f}, {0, 0.5f, 0.5f}};
+  const detail::PrimRef prim{7, 9};
+  const LBounds moving(Box3f(Vec3f(0.0f), Vec3f(1.0f)), Box3f(Vec3f(4.0f, 0.0f, 0.0f), Vec3f(5.0f, 1.0f, 1.0f)));
+  const detail::KdLeafBlocks blocks =
+      detail::KdLeafBlocks::build(tree, &prim, [&](uint32_t, TimeRange) { return moving; });
+  ASSERT_EQ(blocks.blocks.size(), 1u);
+  const detail::KdLeafBlock& b = blocks.blocks[0];
+  EXPECT_EQ(b.t0[0], 0.0f);  // sorted by interval start
+  EXPECT_EQ(b.t0[2], 0.75f);
+  EXPECT_EQ(b.prim[1].geomID, 7u);
+  // A ray along +y through x = 0.5 + 4 t hits the box at time t only.
+  auto test = [&](float time, float x, uint32_t& hits) {
+    detail::RayQuery q;
+    q.setup(Vec3f(x, -1.0f, 0.5f), Vec3f(0.0f, 1.0f, 0.0f), 0.0f, kInf, time, ~0u);
+    return detail::kdBlockTest(b, detail::KdBlockRay(q), q.tfar, hits);
+  };
+  uint32_t hits;
+  EXPECT_EQ(test(0.0f, 0.5f, hits), 0b001u);
+  EXPECT_EQ(hits, 0b001u);
+  EXPECT_EQ(test(0.25f, 1.5f, hits), 0b001u);
+  EXPECT_EQ(hits, 0b001u);
+  EXPECT_EQ(test(0.25f, 3.5f, hits), 0b001u);  // alive, but the box is elsewhere
+  EXPECT_EQ(hits, 0u);
+  EXPECT_EQ(test(std::nextafter(0.25f, 1.0f), 1.5f, hits), 0u);
+  EXPECT_EQ(test(0.5f, 2.5f, hits), 0b010u);
+  EXPECT_EQ(hits, 0b010u);
+  EXPECT_EQ(test(std::nextafter(0.5f, 1.0f), 2.5f, hits), 0u);
+  EXPECT_EQ(test(0.75f, 3.5f, hits), 0b100u);
+  EXPECT_EQ(hits, 0b100u);
+  EXPECT_EQ(test(1.0f, 4.5f, hits), 0b100u);
+  EXPECT_EQ(hits, 0b100u);
+  EXPECT_EQ(test(1.5f, 4.5f, hits), 0u);  // padding lanes 3..7 never alive
 }
 
 TEST(Mbkd, MemoryBudgetStopsTheBuild) {

@@ -24,7 +24,6 @@ class KdInspect {
   virtual void forEachLeaf(
       const std::function<void(const Box3f&, const PrimRef*, std::span<const KdLeafRef>)>& fn) const = 0;
   virtual const KdBuildStats& buildStats() const = 0;
-  virtual const KdTree& tree() const = 0;
 };
 
 }  // namespace mbrt::detail

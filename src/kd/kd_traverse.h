@@ -92,12 +92,11 @@ inline uint32_t kdInnerStep(const KdNode& n, uint32_t node, const RayQuery& ray,
   return before;
 }
 
-// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
-// prims[i] is the primitive of reference index i. `filter(prim, ray)` may
-// reject a reference before its test (counted as a box test when active).
-template <bool AnyHit, bool Count, class Filter = KdNoRefFilter>
-bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prims, RayQuery& ray, Hit* hit,
-                TraversalCounters* counters, const Filter& filter = {}) {
+// The walk: visits the cells the ray crosses, front to back, and calls
+// leaf(node) for each leaf; leaf returns true when it found a hit (any hit:
+// the walk stops). Counts one node visit and one box test per node.
+template <bool AnyHit, bool Count, class Leaf>
+bool kdWalk(const KdTree& tree, RayQuery& ray, TraversalCounters* counters, Leaf&& leaf) {
   if (tree.empty()) return false;
   float tmin, tmax;
   if (!clipToBox(ray, tree.root, tmin, tmax)) return false;
@@ -107,10 +106,8 @@ bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prim
   };
   Item stack[64];
   int sp = 0;
-  KdMailbox mailbox;
   bool found = false;
   uint32_t node = 0;
-  const float time = ray.time;
   while (true) {
     const KdNode& n = tree.nodes[node];
     if constexpr (Count) {
@@ -123,7 +120,33 @@ bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prim
       });
       continue;
     }
-    // Leaf.
+    if (leaf(n)) {
+      if constexpr (AnyHit) return true;
+      found = true;
+    }
+    // Next cell that can still hold a closer hit.
+    while (true) {
+      if (sp == 0) return found;
+      const Item& it = stack[--sp];
+      if (!AnyHit && it.tmin > ray.tfar) continue;
+      node = it.node;
+      tmin = it.tmin;
+      tmax = std::min(it.tmax, ray.tfar * (1.0f + kKdSplitSlack));
+      break;
+    }
+  }
+}
+
+// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
+// prims[i] is the primitive of reference index i. `filter(prim, ray)` may
+// reject a reference before its test (counted as a box test when active).
+template <bool AnyHit, bool Count, class Filter = KdNoRefFilter>
+bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prims, RayQuery& ray, Hit* hit,
+                TraversalCounters* counters, const Filter& filter = {}) {
+  KdMailbox mailbox;
+  const float time = ray.time;
+  return kdWalk<AnyHit, Count>(tree, ray, counters, [&](const KdNode& n) {
+    bool found = false;
     const KdLeafRef* refs = tree.refs.data() + n.first();
     for (uint32_t i = 0, c = n.count(); i < c; ++i) {
       const KdLeafRef& r = refs[i];
@@ -139,17 +162,8 @@ bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prim
         found |= intersectPrimitive(ctx, prims[r.prim], ray, *hit, Count ? counters : nullptr);
       }
     }
-    // Next cell that can still hold a closer hit.
-    while (true) {
-      if (sp == 0) return found;
-      const Item& it = stack[--sp];
-      if (!AnyHit && it.tmin > ray.tfar) continue;
-      node = it.node;
-      tmin = it.tmin;
-      tmax = std::min(it.tmax, ray.tfar * (1.0f + kKdSplitSlack));
-      break;
-    }
-  }
+    return found;
+  });
 }
 
 }  // namespace mbrt::detail
