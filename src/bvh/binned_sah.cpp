@@ -168,17 +168,17 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
     size_t rightCount = 0;
     // Empty bins change nothing: they repeat the costs of their neighbour
     // (small nodes leave most of the bins empty).
+    float cost = 0.0f, prim = 0.0f;
     for (int i = numBins - 1; i > 0; --i) {
-      if (ab[i].count == 0 && i + 1 < numBins) {
-        rightCost[size_t(i)] = rightCost[size_t(i) + 1];
-        rightPrim[size_t(i)] = rightPrim[size_t(i) + 1];
-        continue;
+      if (ab[i].count != 0 || i + 1 == numBins) {
+        acc.extend(ab[i].bounds.get());
+        active += ab[i].active;
+        rightCount += ab[i].count;
+        cost = mbsahArea(acc) * float(active);
+        prim = mbsahArea(acc) * leafBlocks(rightCount, leafBlock);
       }
-      acc.extend(ab[i].bounds.get());
-      active += ab[i].active;
-      rightCount += ab[i].count;
-      rightCost[size_t(i)] = mbsahArea(acc) * float(active);
-      rightPrim[size_t(i)] = mbsahArea(acc) * leafBlocks(rightCount, leafBlock);
+      rightCost[size_t(i)] = cost;
+      rightPrim[size_t(i)] = prim;
     }
     // Sweep from the left: split between bin i-1 and bin i.
     acc = LBounds();
