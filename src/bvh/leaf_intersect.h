@@ -5,8 +5,7 @@
 // vertices with the same arithmetic as `intersectPrimitive`
 // (primitive_intersect.h), so hits are bit-identical to testing the
 // references one by one. Instances and geometries with a filter take the
-// per-reference path. (STBVH §4: leaves are tested at the ray's time; Embree
-// likewise interpolates once per leaf block of one geometry.)
+// per-reference path. (STBVH §4: leaves are tested at the ray's time.)
 #pragma once
 
 #include "geometry/primitive_intersect.h"
