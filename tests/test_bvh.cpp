@@ -378,3 +378,36 @@ TEST(Bvh, EmptyAndTinyScenes) {
     EXPECT_EQ(accel->stats().references, 1u);
   }
 }
+
+// Leaves test one geometry's run at a time (bvh/leaf_intersect.h): leaves
+// mixing many small meshes and segments, some masked, some filtered, some
+// alive only part of the shutter, must answer exactly as brute force.
+TEST(Bvh, LeavesMixingGeometriesHonourMasksAndFilters) {
+  Rng rng(31);
+  auto s = std::make_shared<Scene>();
+  for (int g = 0; g < 12; ++g) {
+    if (g % 4 == 3)
+      addRandomSegments(*s, rng, 6, 1 + g % 3);
+    else
+      addRandomTriangles(*s, rng, 8, 1 + g % 4, g % 5 == 4 ? TimeRange{0.1f, 0.6f} : TimeRange{});
+  }
+  s->setMask(1, 0x2);
+  s->setMask(6, 0x4);
+  s->setFilter(2, [](const FilterArgs& a) { return a.candidate.primID % 2 == 1; });
+  s->setFilter(7, [](const FilterArgs& a) { return a.candidate.u < 0.5f; });
+  TestScene ts{"mixed leaves", s, {0.0f, 0.1f, 0.6f, 1.0f, 1.0f / 3.0f, 0.5f}};
+  std::vector<Ray> rays = makeRays(ts, test::scaled(3000, 300), 17);
+  for (size_t i = 0; i < rays.size(); ++i) rays[i].mask = i % 3 == 0 ? 0x1u : (i % 3 == 1 ? 0x6u : ~0u);
+  BuildOptions bo;
+  bo.kind = AccelKind::Brute;
+  auto brute = Accel::build(*s, bo);
+  for (AccelKind kind : {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Stbvh})
+    for (int width : {4, 8}) {
+      BuildOptions o;
+      o.kind = kind;
+      o.branching = width;
+      o.maxLeafSize = 8;
+      auto accel = Accel::build(*s, o);
+      expectAgreement(*accel, *brute, rays, ts.name + " " + std::string(toString(kind)) + " N=" + std::to_string(width));
+    }
+}

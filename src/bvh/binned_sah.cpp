@@ -1,5 +1,7 @@
 #include "bvh/binned_sah.h"
 
+#include "bvh/simd.h"
+
 #include <algorithm>
 #include <vector>
 
@@ -48,8 +50,59 @@ RefSetInfo summarize(std::span<const BuildRef> refs) {
 
 namespace {
 
+// A bin's linear bounds. Binning extends a bin per axis for every
+// reference, the hottest loop of the build: with SSE the four corners are
+// one min/max each (the fourth lane is ignored). min/max are exact, so the
+// result equals LBounds::extend.
+#ifdef MBRT_BVH_SSE
+struct BinBounds {
+  __m128 lo0 = _mm_set1_ps(kInf), hi0 = _mm_set1_ps(-kInf), lo1 = _mm_set1_ps(kInf), hi1 = _mm_set1_ps(-kInf);
+
+  void extend(const LBounds& b) {
+    static_assert(sizeof(LBounds) == 12 * sizeof(float));
+    const float* f = &b.b0.lower.x;  // b0.lower, b0.upper, b1.lower, b1.upper
+    lo0 = _mm_min_ps(lo0, _mm_loadu_ps(f));
+    hi0 = _mm_max_ps(hi0, _mm_loadu_ps(f + 3));
+    lo1 = _mm_min_ps(lo1, _mm_loadu_ps(f + 6));
+    hi1 = _mm_max_ps(hi1, load3(f + 9));  // the last corner: no read past the bounds
+  }
+  void extend(const BinBounds& o) {
+    lo0 = _mm_min_ps(lo0, o.lo0);
+    hi0 = _mm_max_ps(hi0, o.hi0);
+    lo1 = _mm_min_ps(lo1, o.lo1);
+    hi1 = _mm_max_ps(hi1, o.hi1);
+  }
+  LBounds get() const {
+    alignas(16) float v[4][4];
+    _mm_store_ps(v[0], lo0);
+    _mm_store_ps(v[1], hi0);
+    _mm_store_ps(v[2], lo1);
+    _mm_store_ps(v[3], hi1);
+    LBounds b;
+    b.b0.lower = {v[0][0], v[0][1], v[0][2]};
+    b.b0.upper = {v[1][0], v[1][1], v[1][2]};
+    b.b1.lower = {v[2][0], v[2][1], v[2][2]};
+    b.b1.upper = {v[3][0], v[3][1], v[3][2]};
+    return b;
+  }
+
+ private:
+  static __m128 load3(const float* f) {
+    const __m128 xy = _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(f)));
+    return _mm_movelh_ps(xy, _mm_load_ss(f + 2));
+  }
+};
+#else
+struct BinBounds {
+  LBounds b;
+  void extend(const LBounds& o) { b.extend(o); }
+  void extend(const BinBounds& o) { b.extend(o.b); }
+  LBounds get() const { return b; }
+};
+#endif
+
 struct Bin {
-  LBounds bounds;
+  BinBounds bounds;
   uint64_t active = 0;
   uint32_t count = 0;
 };
@@ -113,19 +166,29 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
     LBounds acc;
     uint64_t active = 0;
     size_t rightCount = 0;
+    // Empty bins change nothing: they repeat the costs of their neighbour
+    // (small nodes leave most of the bins empty).
+    float cost = 0.0f, prim = 0.0f;
     for (int i = numBins - 1; i > 0; --i) {
-      acc.extend(ab[i].bounds);
-      active += ab[i].active;
-      rightCount += ab[i].count;
-      rightCost[size_t(i)] = mbsahArea(acc) * float(active);
-      rightPrim[size_t(i)] = mbsahArea(acc) * leafBlocks(rightCount, leafBlock);
+      if (ab[i].count != 0 || i + 1 == numBins) {
+        acc.extend(ab[i].bounds.get());
+        active += ab[i].active;
+        rightCount += ab[i].count;
+        cost = mbsahArea(acc) * float(active);
+        prim = mbsahArea(acc) * leafBlocks(rightCount, leafBlock);
+      }
+      rightCost[size_t(i)] = cost;
+      rightPrim[size_t(i)] = prim;
     }
     // Sweep from the left: split between bin i-1 and bin i.
     acc = LBounds();
     active = 0;
     size_t leftCount = 0;
+    // A split after an empty bin repeats the split before it (same sides,
+    // same cost; the first one is kept), so it is not evaluated again.
     for (int i = 1; i < numBins; ++i) {
-      acc.extend(ab[i - 1].bounds);
+      if (ab[i - 1].count == 0) continue;
+      acc.extend(ab[i - 1].bounds.get());
       active += ab[i - 1].active;
       leftCount += ab[i - 1].count;
       if (leftCount == 0 || leftCount == refs.size()) continue;

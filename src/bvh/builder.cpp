@@ -23,6 +23,7 @@ struct Decision {
   enum Kind { Leaf, Object, Temporal } kind = Leaf;
   size_t mid = 0;     // Object: size of the left side (references reordered)
   float time = 0.0f;  // Temporal: split time
+  std::vector<BuildRef> left, right;  // Temporal: the halves' references
 };
 
 class Driver {
@@ -38,7 +39,7 @@ class Driver {
     const float area = mbsahArea(info.bounds);
     node.area = area * range.size();
 
-    const Decision d = chooseSplit(refs, info, range, depth, area);
+    Decision d = chooseSplit(refs, info, range, depth, area);
     if (d.kind == Decision::Leaf) {
       auto it = tree_.prims.grow_by(refs.size());
       const size_t first = size_t(it - tree_.prims.begin());
@@ -55,9 +56,9 @@ class Driver {
       return store(node);
     }
     // Temporal: both halves are new reference sets, alive while the children build.
-    std::vector<BuildRef> left, right;
-    ScopedCharge scratch(budget_, 2 * refs.size() * sizeof(BuildRef), "the temporal split references");
-    splitTemporal(refs, range, d.time, *s_.temporal, left, right);
+    std::vector<BuildRef>& left = d.left;
+    std::vector<BuildRef>& right = d.right;
+    ScopedCharge scratch(budget_, (left.size() + right.size()) * sizeof(BuildRef), "the temporal split references");
     const TimeRange lr{range.lo, d.time}, rr{d.time, range.hi};
     // A half where nothing is alive gets no child: the node narrows to the other.
     if (left.empty()) return build(right, rr, depth + 1);
@@ -100,9 +101,15 @@ class Driver {
     float time = 0.0f;
     if (s_.temporal && depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
         temporalSplitTime(refs, range, *s_.temporal, time)) {
-      temporal = evaluateTemporalSplit(refs, range, time, *s_.temporal, s_.leafBlock);
+      ScopedCharge scratch(budget_, 2 * refs.size() * sizeof(BuildRef), "the temporal split references");
+      splitTemporal(refs, range, time, *s_.temporal, d.left, d.right);
+      temporal = temporalSplitCost(d.left, d.right, range, time, s_.leafBlock);
       if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
       else temporal = TemporalSplit();
+    }
+    if (!temporal.valid()) {
+      d.left = {};
+      d.right = {};
     }
     // Leaf or split: MBSAH with segment counts, or (primitiveLeafCost) the
     // cost of our leaves, which test a primitive once whatever its segments.
@@ -111,7 +118,7 @@ class Driver {
       splitCost = s_.traversalCost * area + (temporal.valid() ? temporal.primCost : split.primCost);
       leafTest = area * leafBlocks(count, s_.leafBlock);
     }
-    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) return d;
+    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) return Decision();
     if (temporal.valid()) {
       d.kind = Decision::Temporal;
       d.time = temporal.time;

@@ -108,7 +108,13 @@ class Emitter {
       if (c.isLeaf()) {
         out_.nodes[index].child[i] = uint32_t(out_.prims.size());
         out_.nodes[index].count[i] = uint8_t(c.count);
+        // Sorted by geometry: the leaf test handles one geometry's run at a
+        // time (leaf_intersect.h).
+        const size_t first = out_.prims.size();
         for (uint32_t k = 0; k < c.count; ++k) out_.prims.push_back(tree_.prims[c.begin + k]);
+        std::sort(out_.prims.begin() + std::ptrdiff_t(first), out_.prims.end(), [](PrimRef a, PrimRef b) {
+          return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
+        });
       } else {
         const uint32_t childIndex = emit(lanes[i], depth + 1);
         out_.nodes[index].child[i] = childIndex;

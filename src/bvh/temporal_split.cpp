@@ -4,7 +4,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include "bvh/binned_sah.h"
 
@@ -26,19 +25,6 @@ bool remakeRef(const BuildRef& ref, TimeRange half, const TemporalSource& source
   }
   return true;
 }
-
-struct HalfSums {
-  LBounds bounds[2];
-  uint64_t active[2] = {0, 0};
-  uint64_t count[2] = {0, 0};
-  void merge(const HalfSums& o) {
-    for (int i = 0; i < 2; ++i) {
-      bounds[i].extend(o.bounds[i]);
-      active[i] += o.active[i];
-      count[i] += o.count[i];
-    }
-  }
-};
 
 }  // namespace
 
@@ -75,48 +61,30 @@ bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const Te
   return true;
 }
 
-TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
-                                    const TemporalSource& source, int leafBlock) {
+TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const BuildRef> right, TimeRange range,
+                                float time, int leafBlock) {
   const TimeRange halves[2] = {{range.lo, time}, {time, range.hi}};
-  auto sum = [&](std::span<const BuildRef> part) {
-    HalfSums s;
-    BuildRef out;
-    for (const BuildRef& r : part)
-      for (int i = 0; i < 2; ++i)
-        if (remakeRef(r, halves[i], source, out)) {
-          s.bounds[i].extend(out.bounds);
-          s.active[i] += out.active;
-          ++s.count[i];
-        }
-    return s;
-  };
-  HalfSums s;
-  if (refs.size() < kParallelRefs) {
-    s = sum(refs);
-  } else {
-    s = tbb::parallel_deterministic_reduce(
-        tbb::blocked_range<size_t>(0, refs.size(), kGrain), HalfSums(),
-        [&](const tbb::blocked_range<size_t>& r, HalfSums acc) {
-          acc.merge(sum(refs.subspan(r.begin(), r.size())));
-          return acc;
-        },
-        [](HalfSums a, const HalfSums& b) {
-          a.merge(b);
-          return a;
-        });
-  }
+  const std::span<const BuildRef> refs[2] = {left, right};
   TemporalSplit split;
   split.time = time;
   float cost = 0.0f, primCost = 0.0f;
-  for (int i = 0; i < 2; ++i)
-    if (s.active[i] > 0) {
-      const float p = mbsahArea(s.bounds[i]) * (halves[i].size() / range.size());
-      cost += p * float(s.active[i]);
-      primCost += p * leafBlocks(s.count[i], leafBlock);
-    }
+  for (int i = 0; i < 2; ++i) {
+    const RefSetInfo info = summarize(refs[i]);
+    if (info.active == 0) continue;
+    const float p = mbsahArea(info.bounds) * (halves[i].size() / range.size());
+    cost += p * float(info.active);
+    primCost += p * leafBlocks(refs[i].size(), leafBlock);
+  }
   split.cost = cost;
   split.primCost = primCost;
   return split;
+}
+
+TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
+                                    const TemporalSource& source, int leafBlock) {
+  std::vector<BuildRef> left, right;
+  splitTemporal(refs, range, time, source, left, right);
+  return temporalSplitCost(left, right, range, time, leafBlock);
 }
 
 void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, const TemporalSource& source,

@@ -46,8 +46,14 @@ struct TemporalSplit {
 // references, or the chosen reference has no step strictly inside it).
 bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const TemporalSource& source, float& time);
 
-// Cost of splitting at `time` (no references are made).
-// primCost counts references in blocks of `leafBlock`.
+// Cost (MBSAH, §3.2) of the split at `time` whose halves' references are
+// `left` and `right` (splitTemporal); primCost counts references in blocks
+// of `leafBlock`. The builder makes the halves once and keeps them when the
+// split is taken (each half's bounds are recomputed only once, Fig. 4).
+TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const BuildRef> right, TimeRange range,
+                                float time, int leafBlock = 1);
+
+// splitTemporal, then temporalSplitCost.
 TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
                                     const TemporalSource& source, int leafBlock = 1);
 

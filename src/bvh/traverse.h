@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "bvh/wide_bvh.h"
-#include "geometry/primitive_intersect.h"
+#include "bvh/leaf_intersect.h"
 
 namespace mbrt::detail {
 
@@ -132,12 +132,10 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
       // Leaf.
       if constexpr (Count) counters->primitiveTests += item.count;
       const PrimRef* prims = bvh.prims.data() + item.child;
-      for (uint32_t i = 0; i < item.count; ++i) {
-        if constexpr (AnyHit) {
-          if (occludedPrimitive(ctx, prims[i], ray)) return true;
-        } else {
-          found |= intersectPrimitive(ctx, prims[i], ray, *hit, Count ? counters : nullptr);
-        }
+      if constexpr (AnyHit) {
+        if (occludedLeaf(ctx, prims, item.count, ray)) return true;
+      } else {
+        found |= intersectLeaf(ctx, prims, item.count, ray, *hit, Count ? counters : nullptr);
       }
       break;
     }
