@@ -1,46 +1,24 @@
 #include "accel/bvh_interp.h"
 
-#include "bvh/build_wide.h"
-#include "bvh/inspect.h"
+#include "bvh/bvh_structure.h"
 #include "bvh/sah_cost.h"
-#include "bvh/traverse.h"
-#include "geometry/primitive_bounds.h"
 
 namespace mbrt::detail {
 namespace {
 
-// Linear bounds over the whole shutter (STBVH Fig. 4), global by construction.
-struct ShutterRefs final : RefMaker {
-  const SceneContext& ctx;
-  explicit ShutterRefs(const SceneContext& c) : ctx(c) {}
-  bool make(PrimRef prim, BuildRef& out) const override {
-    out.prim = prim;
-    out.bounds = linearBounds(ctx, prim, {0.0f, 1.0f});
-    out.active = activeSegments(ctx, prim, {0.0f, 1.0f});
-    out.total = totalSegments(ctx, prim);
-    out.range = {0.0f, 1.0f};
-    return true;
-  }
-};
-
 template <int N>
-class BvhInterp final : public Structure, public BvhInspect {
+class BvhInterp final : public WideBvhStructure<N, true> {
+  using Base = WideBvhStructure<N, true>;
+  using Base::bvh_;
+  using Base::ctx_;
+  using Base::sceneArea_;
+
  public:
-  explicit BvhInterp(const SceneContext& ctx) : ctx_(ctx) {
+  explicit BvhInterp(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
     buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_);
     sceneArea_ = sceneSahArea(ctx);
-  }
-
-  bool intersect(RayQuery& ray, Hit& hit) const override {
-    return traverse<false, false>(bvh_, ctx_, ray, ray.time, &hit, nullptr);
-  }
-  bool occluded(RayQuery& ray) const override {
-    return traverse<true, false>(bvh_, ctx_, ray, ray.time, nullptr, nullptr);
-  }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    return traverse<false, true>(bvh_, ctx_, ray, ray.time, &hit, &c);
   }
 
   void fillStats(AccelStats& s) const override {
@@ -71,11 +49,6 @@ class BvhInterp final : public Structure, public BvhInspect {
       fn(LaneView{{0.0f, 1.0f}, [&node, lane](float t) { return node.boxAt(lane, t); }, below});
     });
   }
-  std::vector<uint8_t> bytes() const override {
-    std::vector<uint8_t> out;
-    appendBytes(bvh_, out);
-    return out;
-  }
 
  private:
   LBounds refitNode(uint32_t index, bool& ok) {
@@ -97,20 +70,13 @@ class BvhInterp final : public Structure, public BvhInspect {
     return all;
   }
 
-  const SceneContext& ctx_;
-  WideBvh<N, true> bvh_;
   size_t numPrims_ = 0;
-  double sceneArea_ = 0.0;
 };
 
 }  // namespace
 
 std::unique_ptr<Structure> makeBvhInterp(const SceneContext& context) {
-  switch (context.options().branching) {
-    case 2: return std::make_unique<BvhInterp<2>>(context);
-    case 4: return std::make_unique<BvhInterp<4>>(context);
-    default: return std::make_unique<BvhInterp<8>>(context);
-  }
+  return makeForBranching<BvhInterp>(context);
 }
 
 }  // namespace mbrt::detail

@@ -9,6 +9,7 @@
 #include "bvh/inspect.h"
 #include "bvh/sah_cost.h"
 #include "bvh/traverse.h"
+#include "core/branching.h"
 #include "geometry/primitive_bounds.h"
 
 namespace mbrt::detail {
@@ -110,11 +111,7 @@ class BvhSegments final : public Structure, public BvhInspect {
 }  // namespace
 
 std::unique_ptr<Structure> makeBvhSegments(const SceneContext& context) {
-  switch (context.options().branching) {
-    case 2: return std::make_unique<BvhSegments<2>>(context);
-    case 4: return std::make_unique<BvhSegments<4>>(context);
-    default: return std::make_unique<BvhSegments<8>>(context);
-  }
+  return makeForBranching<BvhSegments>(context);
 }
 
 }  // namespace mbrt::detail

@@ -1,10 +1,7 @@
 #include "accel/frozen.h"
 
-#include "bvh/build_wide.h"
-#include "bvh/inspect.h"
+#include "bvh/bvh_structure.h"
 #include "bvh/sah_cost.h"
-#include "bvh/traverse.h"
-#include "geometry/primitive_bounds.h"
 
 namespace mbrt::detail {
 namespace {
@@ -26,26 +23,18 @@ struct FrozenRefs final : RefMaker {
 };
 
 template <int N>
-class Frozen final : public Structure, public BvhInspect {
+class Frozen final : public WideBvhStructure<N, false> {
+  using Base = WideBvhStructure<N, false>;
+  using Base::bvh_;
+  using Base::ctx_;
+  using Base::sceneArea_;
+
  public:
-  explicit Frozen(const SceneContext& ctx) : ctx_(ctx), time_(ctx.options().frozenTime) {
+  // Every ray sees the scene at the frozen time.
+  explicit Frozen(const SceneContext& ctx) : Base(ctx, ctx.options().frozenTime), time_(ctx.options().frozenTime) {
     const std::vector<PrimRef> prims = ctx.primitives();
     buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_);
     sceneArea_ = sceneSahArea(ctx);
-  }
-
-  // Every ray sees the scene at the frozen time.
-  bool intersect(RayQuery& ray, Hit& hit) const override {
-    ray.time = time_;
-    return traverse<false, false>(bvh_, ctx_, ray, 0.0f, &hit, nullptr);
-  }
-  bool occluded(RayQuery& ray) const override {
-    ray.time = time_;
-    return traverse<true, false>(bvh_, ctx_, ray, 0.0f, nullptr, nullptr);
-  }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    ray.time = time_;
-    return traverse<false, true>(bvh_, ctx_, ray, 0.0f, &hit, &c);
   }
 
   void fillStats(AccelStats& s) const override {
@@ -60,27 +49,15 @@ class Frozen final : public Structure, public BvhInspect {
       fn(LaneView{{time_, time_}, [&node, lane](float) { return node.boxAt(lane, 0.0f); }, below});
     });
   }
-  std::vector<uint8_t> bytes() const override {
-    std::vector<uint8_t> out;
-    appendBytes(bvh_, out);
-    return out;
-  }
 
  private:
-  const SceneContext& ctx_;
   float time_;
-  WideBvh<N, false> bvh_;
-  double sceneArea_ = 0.0;
 };
 
 }  // namespace
 
 std::unique_ptr<Structure> makeFrozen(const SceneContext& context) {
-  switch (context.options().branching) {
-    case 2: return std::make_unique<Frozen<2>>(context);
-    case 4: return std::make_unique<Frozen<4>>(context);
-    default: return std::make_unique<Frozen<8>>(context);
-  }
+  return makeForBranching<Frozen>(context);
 }
 
 }  // namespace mbrt::detail

@@ -1,28 +1,11 @@
 #include "accel/stbvh.h"
 
-#include "bvh/build_wide.h"
-#include "bvh/inspect.h"
+#include "bvh/bvh_structure.h"
 #include "bvh/sah_cost.h"
 #include "bvh/temporal_split.h"
-#include "bvh/traverse.h"
-#include "geometry/primitive_bounds.h"
 
 namespace mbrt::detail {
 namespace {
-
-// Root references: linear bounds over the whole shutter (Fig. 4).
-struct ShutterRefs final : RefMaker {
-  const SceneContext& ctx;
-  explicit ShutterRefs(const SceneContext& c) : ctx(c) {}
-  bool make(PrimRef prim, BuildRef& out) const override {
-    out.prim = prim;
-    out.bounds = linearBounds(ctx, prim, {0.0f, 1.0f});
-    out.active = activeSegments(ctx, prim, {0.0f, 1.0f});
-    out.total = totalSegments(ctx, prim);
-    out.range = {0.0f, 1.0f};
-    return true;
-  }
-};
 
 // References for a part of the shutter: the primitive's linear bounds over
 // exactly that part (Fig. 4), local to it (the nodes get the global form).
@@ -49,23 +32,18 @@ struct SceneTiming final : TemporalSource {
 };
 
 template <int N>
-class Stbvh final : public Structure, public BvhInspect {
+class Stbvh final : public WideBvhStructure<N, true> {
+  using Base = WideBvhStructure<N, true>;
+  using Base::bvh_;
+  using Base::ctx_;
+  using Base::sceneArea_;
+
  public:
-  explicit Stbvh(const SceneContext& ctx) : ctx_(ctx) {
+  explicit Stbvh(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     const SceneTiming timing(ctx);
     buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing);
     sceneArea_ = sceneSahArea(ctx);
-  }
-
-  bool intersect(RayQuery& ray, Hit& hit) const override {
-    return traverse<false, false>(bvh_, ctx_, ray, ray.time, &hit, nullptr);
-  }
-  bool occluded(RayQuery& ray) const override {
-    return traverse<true, false>(bvh_, ctx_, ray, ray.time, nullptr, nullptr);
-  }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    return traverse<false, true>(bvh_, ctx_, ray, ray.time, &hit, &c);
   }
 
   void fillStats(AccelStats& s) const override {
@@ -81,26 +59,12 @@ class Stbvh final : public Structure, public BvhInspect {
                      fn(LaneView{range, [&node, lane](float t) { return node.boxAt(lane, t); }, below});
                    });
   }
-  std::vector<uint8_t> bytes() const override {
-    std::vector<uint8_t> out;
-    appendBytes(bvh_, out);
-    return out;
-  }
-
- private:
-  const SceneContext& ctx_;
-  WideBvh<N, true> bvh_;
-  double sceneArea_ = 0.0;
 };
 
 }  // namespace
 
 std::unique_ptr<Structure> makeStbvh(const SceneContext& context) {
-  switch (context.options().branching) {
-    case 2: return std::make_unique<Stbvh<2>>(context);
-    case 4: return std::make_unique<Stbvh<4>>(context);
-    default: return std::make_unique<Stbvh<8>>(context);
-  }
+  return makeForBranching<Stbvh>(context);
 }
 
 }  // namespace mbrt::detail

@@ -6,6 +6,7 @@
 #include "bvh/sah_cost.h"
 #include "bvh/simd.h"
 #include "bvh/traverse.h"
+#include "core/branching.h"
 #include "geometry/primitive_bounds.h"
 #include "geometry/primitive_intersect.h"
 #include "msbvh/key_bounds.h"
@@ -425,11 +426,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
 }  // namespace
 
 std::unique_ptr<Structure> makeMsbvh(const SceneContext& context) {
-  switch (context.options().branching) {
-    case 2: return std::make_unique<Msbvh<2>>(context);
-    case 4: return std::make_unique<Msbvh<4>>(context);
-    default: return std::make_unique<Msbvh<8>>(context);
-  }
+  return makeForBranching<Msbvh>(context);
 }
 
 uint32_t msbvhKeySegments(const Structure& structure) {
