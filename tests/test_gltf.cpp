@@ -245,6 +245,18 @@ TEST(Gltf, BadInputGivesClearErrors) {
   EXPECT_NE(e.find("not finite"), std::string::npos) << e;
 }
 
+// Found by fuzz_gltf: a node naming a camera the file does not have was
+// used as the camera (out-of-bounds read).
+TEST(Gltf, NodeNamingAMissingCameraIsRefused) {
+  GltfWriter w;
+  w.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+  const std::string path = w.write(kDir, "missing_camera",
+                                   "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                                   "\"nodes\":[{\"mesh\":0},{\"camera\":3}],\"scenes\":[{\"nodes\":[0,1]}],\"scene\":0");
+  const std::string e = errorOf([&] { loadGltf(path); });
+  EXPECT_NE(e.find(path + ": node 1 uses camera 3 that does not exist"), std::string::npos) << e;
+}
+
 // External buffer URIs are read only when they name a regular file inside
 // the glTF's folder whose size is a declared byteLength, checked before
 // reading: never a device, a FIFO (which would block), a directory, a file
