@@ -24,8 +24,9 @@ constexpr float kMaxFloat = std::numeric_limits<float>::max();
 // Structures trace every ray with its direction scaled by a power of two,
 // 2^k, so that its largest component lies in [1, 2); tnear and tfar are
 // scaled by 2^-k and hit distances back by 2^k. Powers of two keep this
-// exact (bar underflow of tnear/tfar/t into denormals), and the slab tests,
-// the watertight shear and the segment test's |dir| never overflow nor
+// exact, bar underflow into denormals (of tnear, tfar, t, and of direction
+// components below ~1e-38 times the largest one). The slab tests, the
+// watertight shear and the segment test's |dir| then never overflow nor
 // underflow, whatever the direction's scale (1e-45 to 3e38). The interval
 // is clamped to finite floats: a hit's t is always finite.
 class ScaledRay {
