@@ -17,8 +17,8 @@
 namespace {
 
 // Origins farther than this from the scene (about 5,000 times its size) are
-// a known open limit (docs/robustness.md, "Open"): v - org loses the
-// vertices' digits, brute's t drifts and structures may miss. Such rays
+// a known open limit (docs/robustness.md, "Open"): the structures' slab
+// tests stop being conservative and may miss what brute hits. Such rays
 // are still traced (no crash allowed), not compared.
 constexpr float kComparedOriginReach = 1e4f;
 

@@ -66,8 +66,8 @@ done
 wait
 failed=0
 for t in "${targets[@]}"; do
-  cat "$build_dir/$t.summary"
-  grep -q 'crashes 0  .*exit 0)' "$build_dir/$t.summary" || failed=1
+  if [ -f "$build_dir/$t.summary" ]; then cat "$build_dir/$t.summary"; else echo "$t: no summary (interrupted?)"; fi
+  grep -qs 'crashes 0  .*exit 0)' "$build_dir/$t.summary" || failed=1
 done
 [ "$failed" -eq 0 ] && echo "fuzz.sh: no crashes"
 exit "$failed"
