@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "error_of.h"
 #include "mbrt/gltf.h"
 #include "mbrt/loaders.h"
 
@@ -117,14 +118,7 @@ void expectNear(Vec3f a, Vec3f b, const std::string& what) {
   EXPECT_NEAR(a.z, b.z, 1e-5f) << what;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
 
 TEST(Gltf, HandMadeFileGivesHandComputedPositions) {
   const std::string path = writeTestFile("tiny");
