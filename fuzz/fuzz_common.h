@@ -35,14 +35,19 @@ inline std::string writeScratch(const std::string& name, const uint8_t* data, si
   return path;
 }
 
-// Loaded scenes must validate (or throw mbrt::Error) and, when valid, build.
+// Scenes up to this many primitives are built and traced: enough for every
+// loader path (instances, segments, steps), small enough for ~10^6
+// executions per target.
+constexpr size_t kMaxBuiltPrimitives = 2000;
+
+// Loaded scenes must validate (or throw mbrt::Error) and, when small, build.
 inline void exercise(const Scene& scene) {
   try {
     scene.validate();
   } catch (const Error&) {
     return;
   }
-  if (scene.numPrimitives() > 20000) return;  // keep executions fast
+  if (scene.numPrimitives() > kMaxBuiltPrimitives) return;
   BuildOptions o;
   o.kind = AccelKind::BvhInterp;
   auto accel = Accel::build(scene, o);

@@ -1,34 +1,36 @@
 // libFuzzer target: the ray-file reader of `mbrt trace` (decodeRays), and
 // the decoded rays -- any bit patterns: NaN, inf, denormals, zero
 // directions, reversed intervals, times outside [0,1] -- traced through
-// every structure of this build over a small moving scene. A ray a
-// structure answers differently from brute is a crash too.
+// brute and one other structure of this build (ray i: structure i mod n,
+// so every structure sees rays and an execution costs two traversals) over
+// a small moving scene. A ray a structure answers differently from brute is
+// a crash too.
+#include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "fuzz_common.h"
+#include "hostile_ray_scene.h"
 #include "mbrt/ray_file.h"
 
 namespace {
 
+// Origins farther than this from the scene (about 5,000 times its size) are
+// a known open limit (docs/robustness.md, "Open"): the structures' slab
+// tests stop being conservative and may miss what brute hits. Such rays
+// are still traced (no crash allowed), not compared.
+constexpr float kComparedOriginReach = 1e4f;
+
+bool originNear(const mbrt::Ray& r) {
+  return std::fabs(r.org.x) <= kComparedOriginReach && std::fabs(r.org.y) <= kComparedOriginReach &&
+         std::fabs(r.org.z) <= kComparedOriginReach;
+}
+
 struct Fixture {
-  mbrt::Scene scene;
+  mbrt::Scene scene = mbrt::test::hostileRayScene();
   std::vector<std::unique_ptr<mbrt::Accel>> accels;  // [0] is brute
   Fixture() {
-    std::vector<mbrt::Triangle> tris;
-    std::vector<std::vector<mbrt::Vec3f>> steps(3);
-    for (uint32_t i = 0; i < 40; ++i) {
-      const float x = float(i % 8) * 0.25f - 1.0f, y = float(i / 8) * 0.4f - 1.0f;
-      for (uint32_t s = 0; s < 3; ++s) {
-        const float dz = 0.3f * float(s) * float(i % 3);
-        steps[s].push_back({x, y, dz});
-        steps[s].push_back({x + 0.3f, y, dz + 0.1f});
-        steps[s].push_back({x, y + 0.5f, dz - 0.1f});
-      }
-      tris.push_back({3 * i, 3 * i + 1, 3 * i + 2});
-    }
-    scene.addTriangleMesh(std::move(tris), std::move(steps));
-    scene.addSegments({{0, 1}}, {{{0, 0, 1}, {1, 1, 1}}}, {0.1f, 0.2f}, {0.2f, 0.8f});
     for (mbrt::AccelKind k : mbrt::availableAccelKinds()) {
       if (k == mbrt::AccelKind::Embree) continue;  // its own arithmetic: ties differ
       mbrt::BuildOptions o;
@@ -48,20 +50,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const mbrt::Error&) {
     return 0;
   }
-  for (const mbrt::Ray& r : rays) {
-    mbrt::Hit ref;
-    const bool refHit = fx.accels[0]->intersect(r, ref);
-    const bool refOcc = fx.accels[0]->occluded(r);
-    if (refHit && !refOcc) std::abort();
-    for (size_t i = 1; i < fx.accels.size(); ++i) {
-      mbrt::Hit h;
-      const bool hit = fx.accels[i]->intersect(r, h);
-      if (fx.accels[i]->options().kind == mbrt::AccelKind::Frozen) continue;  // only right at its build time
-      if (hit != refHit) {
-        std::fprintf(stderr, "kind %d: hit %d, brute %d\n", int(fx.accels[i]->options().kind), hit, refHit);
-        std::abort();
-      }
-      (void)fx.accels[i]->occluded(r);
+  for (size_t n = 0; n < rays.size(); ++n) {
+    const mbrt::Accel& tested = *fx.accels[1 + n % (fx.accels.size() - 1)];
+    mbrt::Ray r = rays[n];
+    // `frozen` is right only at its build time: asked there (valid times only).
+    if (tested.options().kind == mbrt::AccelKind::Frozen && r.time >= 0.0f && r.time <= 1.0f)
+      r.time = tested.options().frozenTime;
+    mbrt::Hit ref, h;
+    const bool refHit = fx.accels[0]->intersect(r, ref), refOcc = fx.accels[0]->occluded(r);
+    if (refHit != refOcc || (refHit && !std::isfinite(ref.t))) std::abort();
+    const bool hit = tested.intersect(r, h), occ = tested.occluded(r);
+    if ((hit != refHit || occ != refOcc) && originNear(r)) {
+      std::fprintf(stderr, "%s: hit %d occluded %d, brute %d %d\n",
+                   std::string(mbrt::toString(tested.options().kind)).c_str(), hit, occ, refHit, refOcc);
+      std::abort();
     }
   }
   return 0;

@@ -228,6 +228,15 @@ int main(int argc, char** argv) {
   put(out / "ray_file" / "rays.bin", std::string(bytes.begin(), bytes.end()));
   const std::vector<uint8_t> one = mbrt::encodeRays(std::span<const mbrt::Ray>(rays.data(), 1));
   put(out / "ray_file" / "one.bin", std::string(one.begin(), one.end()));
+  // Very short and very long directions (hit distances near the float range).
+  std::vector<mbrt::Ray> scaled(rays.begin(), rays.begin() + 8);
+  for (size_t i = 0; i < scaled.size(); ++i) {
+    const float scale = i % 2 ? 1e-38f * float(i) : 1e37f * float(i);
+    scaled[i].dir = mbrt::Vec3f{0.01f * float(i), -0.02f, 1.0f} * scale;
+    scaled[i].tnear = i % 3 ? 0.0f : -1e8f;
+  }
+  const std::vector<uint8_t> scaledBytes = mbrt::encodeRays(scaled);
+  put(out / "ray_file" / "scaled.bin", std::string(scaledBytes.begin(), scaledBytes.end()));
 
   std::cout << "fuzz_make_seeds: wrote the seed corpus to " << out.string() << "\n";
   return 0;

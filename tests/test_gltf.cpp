@@ -10,8 +10,10 @@
 #include <fstream>
 #include <functional>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include "error_of.h"
 #include "mbrt/gltf.h"
 #include "mbrt/loaders.h"
 
@@ -116,14 +118,7 @@ void expectNear(Vec3f a, Vec3f b, const std::string& what) {
   EXPECT_NEAR(a.z, b.z, 1e-5f) << what;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
 
 TEST(Gltf, HandMadeFileGivesHandComputedPositions) {
   const std::string path = writeTestFile("tiny");
@@ -242,6 +237,59 @@ TEST(Gltf, BadInputGivesClearErrors) {
   // Through the general entry point too.
   e = errorOf([&] { loadSceneSpec(nan); });
   EXPECT_NE(e.find("not finite"), std::string::npos) << e;
+}
+
+// Found by fuzz_gltf: a node naming a camera the file does not have was
+// used as the camera (out-of-bounds read).
+TEST(Gltf, NodeNamingAMissingCameraIsRefused) {
+  GltfWriter w;
+  w.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3");
+  const std::string path = w.write(kDir, "missing_camera",
+                                   "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                                   "\"nodes\":[{\"mesh\":0},{\"camera\":3}],\"scenes\":[{\"nodes\":[0,1]}],\"scene\":0");
+  const std::string e = errorOf([&] { loadGltf(path); });
+  EXPECT_NE(e.find(path + ": node 1 uses camera 3 that does not exist"), std::string::npos) << e;
+}
+
+// External buffer URIs are read only when they name a regular file inside
+// the glTF's folder whose size is a declared byteLength, checked before
+// reading: never a device, a FIFO (which would block), a directory, a file
+// elsewhere, or a file larger than declared.
+TEST(Gltf, ExternalBufferUrisAreGuarded) {
+  const fs::path dir = kDir / "uris";
+  fs::create_directories(dir / "sub");
+  const auto gltfNaming = [&](const std::string& uri, size_t byteLength = 100) {
+    const fs::path p = dir / "buffer.gltf";
+    std::ofstream(p) << "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"" << uri
+                     << "\",\"byteLength\":" << byteLength << "}]}";
+    return p.string();
+  };
+  const auto errorFor = [&](const std::string& uri, size_t byteLength = 100) {
+    const std::string path = gltfNaming(uri, byteLength);
+    return errorOf([&] { loadGltf(path); });
+  };
+  // An absolute URI is joined to the folder (tinygltf): not found there.
+  EXPECT_NE(errorFor("/dev/zero").find("File not found : /dev/zero"), std::string::npos) << errorFor("/dev/zero");
+  EXPECT_NE(errorFor("../../../../../../etc/passwd").find("outside the glTF's folder"), std::string::npos);
+  EXPECT_NE(errorFor("sub/../buffer.gltf").find("outside the glTF's folder"), std::string::npos);
+  EXPECT_NE(errorFor("sub").find("is not a regular file"), std::string::npos) << errorFor("sub");
+  fs::create_symlink("/dev/zero", dir / "zero.bin");
+  EXPECT_NE(errorFor("zero.bin").find("is not a regular file"), std::string::npos) << errorFor("zero.bin");
+  ASSERT_EQ(::mkfifo((dir / "fifo.bin").c_str(), 0600), 0);
+  EXPECT_NE(errorFor("fifo.bin").find("is not a regular file"), std::string::npos) << errorFor("fifo.bin");
+  // A huge (sparse) file: refused by its size, not read.
+  std::ofstream(dir / "huge.bin").put('x');
+  fs::resize_file(dir / "huge.bin", uintmax_t(1) << 40);
+  EXPECT_NE(errorFor("huge.bin").find("1099511627776 bytes, the size of no declared buffer"), std::string::npos)
+      << errorFor("huge.bin");
+  fs::resize_file(dir / "huge.bin", 100);
+  // The declared size: read (the file has no meshes, which is another error).
+  EXPECT_EQ(errorFor("huge.bin").find("huge.bin"), std::string::npos) << errorFor("huge.bin");
+  EXPECT_NE(errorFor("sub/../huge.bin").find("outside the glTF's folder"), std::string::npos);
+  EXPECT_NE(errorFor("missing.bin").find("File not found"), std::string::npos) << errorFor("missing.bin");
+  // The glTF itself must be a regular file.
+  EXPECT_NE(errorOf([&] { loadGltf((dir / "sub").string()); }).find("is not a regular file"), std::string::npos);
+  EXPECT_NE(errorOf([&] { loadGltf((dir / "fifo.bin").string()); }).find("is not a regular file"), std::string::npos);
 }
 
 // The shared real models (skipped without ../shared).

@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 
+#include "error_of.h"
 #include "mbrt/io.h"
 #include "mbrt/loaders.h"
 
@@ -24,14 +25,7 @@ std::string put(const std::string& name, const std::string& text) {
   return (kDir / name).string();
 }
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
 
 // Key i: a quad moved by i along x; `fo` in the second face line.
 std::string key(int i, const char* faces = "f 1 2 3 4\nfo 1 3 5\n") {

@@ -17,6 +17,7 @@
 #include "mbrt/loaders.h"
 #include "mbrt/ray_file.h"
 #include "mbrt/render.h"
+#include "hostile_ray_scene.h"
 #include "oracle.h"
 #include "test_util.h"
 
@@ -45,6 +46,29 @@ std::vector<std::unique_ptr<Accel>> everyStructure(const Scene& scene, float fro
 
 std::string label(const Accel& a) {
   return std::string(toString(a.options().kind)) + "/" + std::to_string(a.options().branching);
+}
+
+// Every structure but the kinds in `skip` gives brute's answers for `rays`
+// (closest and any hit), with at least `minHits` hits. `frozen` is asked at
+// its build time; Embree within `embreeTolerance` (relative t, tests/oracle.h)
+// and from the origin on (tnear < 0 is traced as 0).
+void expectAgreementWithBrute(const Scene& scene, const std::vector<Ray>& rays, std::vector<AccelKind> skip,
+                              size_t minHits = 0, float embreeTolerance = 2e-4f) {
+  constexpr float kFrozenTime = 0.5f;
+  auto brute = test::buildKind(scene, AccelKind::Brute);
+  for (const auto& a : everyStructure(scene, kFrozenTime)) {
+    const AccelKind kind = a->options().kind;
+    if (std::find(skip.begin(), skip.end(), kind) != skip.end()) continue;
+    std::vector<Ray> own = rays;
+    for (Ray& r : own) {
+      if (kind == AccelKind::Frozen) r.time = kFrozenTime;
+      if (kind == AccelKind::Embree) r.tnear = std::max(r.tnear, 0.0f);  // it traces from the origin on
+    }
+    const auto rep = test::compareWithOracle(*brute, *a, own, kind == AccelKind::Embree ? embreeTolerance : 1e-5f);
+    EXPECT_EQ(rep.wrong, 0u) << label(*a) << ": " << rep.firstFailure;
+    EXPECT_EQ(rep.anyWrong, 0u) << label(*a);
+    EXPECT_GE(rep.hits, minHits) << label(*a);
+  }
 }
 
 // A closed mesh: the surface of the cube [-1,1]^3 as an n x n grid of quads
@@ -251,15 +275,9 @@ TEST(Watertight, RaysGrazingBoxFacesAgreeWithBrute) {
     }
     rays.push_back(r);
   }
-  auto brute = test::buildKind(scene, AccelKind::Brute);
-  for (const auto& a : everyStructure(scene)) {
-    // frozen: the wall moves; Embree: edge-on rays are decided by its own
-    // triangle test (see above).
-    if (a->options().kind == AccelKind::Frozen || a->options().kind == AccelKind::Embree) continue;
-    const auto rep = test::compareWithOracle(*brute, *a, rays);
-    EXPECT_EQ(rep.wrong + rep.anyWrong, 0u) << label(*a) << ": " << rep.firstFailure;
-    EXPECT_GT(rep.hits, rays.size() / 4);
-  }
+  // frozen: the wall moves; Embree: edge-on rays are decided by its own
+  // triangle test (see above).
+  expectAgreementWithBrute(scene, rays, {AccelKind::Frozen, AccelKind::Embree}, rays.size() / 4 + 1);
 }
 
 // ---- hostile rays, degenerate primitives ------------------------------------
@@ -322,12 +340,7 @@ TEST(BadRays, HugeCoordinatesAgreeWithBrute) {
     r.time = float(i) / 199.0f;
     rays.push_back(r);
   }
-  auto brute = test::buildKind(scene, AccelKind::Brute);
-  for (const auto& a : everyStructure(scene)) {
-    if (a->options().kind == AccelKind::Frozen || a->options().kind == AccelKind::Embree) continue;
-    const auto rep = test::compareWithOracle(*brute, *a, rays);
-    EXPECT_EQ(rep.wrong + rep.anyWrong, 0u) << label(*a) << ": " << rep.firstFailure;
-  }
+  expectAgreementWithBrute(scene, rays, {AccelKind::Frozen, AccelKind::Embree});
 }
 
 TEST(BadInput, DegenerateTrianglesWithEveryStructure) {
@@ -351,11 +364,7 @@ TEST(BadInput, DegenerateTrianglesWithEveryStructure) {
     r.time = i % 7 == 0 ? 0.5f * float(i % 3) : (u(rng) + 1) * 0.5f;
     rays.push_back(r);
   }
-  for (const auto& a : everyStructure(scene)) {
-    if (a->options().kind == AccelKind::Frozen) continue;
-    const auto rep = test::compareWithOracle(*brute, *a, rays);
-    EXPECT_EQ(rep.wrong + rep.anyWrong, 0u) << label(*a) << ": " << rep.firstFailure;
-  }
+  expectAgreementWithBrute(scene, rays, {AccelKind::Frozen});
   // Never a hit on a triangle while it is degenerate (time 0: a line; 0.5: a point).
   for (float t : {0.0f, 0.5f}) {
     Ray r;
@@ -392,13 +401,8 @@ TEST(BadInput, ZeroLengthSegmentsAreSpheresWithEveryStructure) {
     q.time = i % 5 == 0 ? float(i % 2) : (u(rng) + 1) * 0.5f;
     rays.push_back(q);
   }
-  for (const auto& a : everyStructure(scene)) {
-    // Embree drops curves whose two ends coincide (docs/robustness.md).
-    if (a->options().kind == AccelKind::Frozen || a->options().kind == AccelKind::Embree) continue;
-    const auto rep = test::compareWithOracle(*brute, *a, rays);
-    EXPECT_EQ(rep.wrong + rep.anyWrong, 0u) << label(*a) << ": " << rep.firstFailure;
-    EXPECT_GT(rep.hits, 20u);
-  }
+  // Embree drops curves whose two ends coincide (docs/robustness.md).
+  expectAgreementWithBrute(scene, rays, {AccelKind::Frozen, AccelKind::Embree}, 21);
 }
 
 // ---- instances: depth and cycles ---------------------------------------------
@@ -661,51 +665,73 @@ TEST(BadInput, AbsurdRenderOptionsAreRefused) {
 // ray (direction about -4e37, tnear about -1e8, denormal origin): its kd
 // traversal assumed t >= 0 when ordering the two sides of a split plane.
 // Rays like it, with negative tnear, huge and tiny components, every
-// structure against brute.
+// structure against brute -- directions from denormal (1e-42: hit distances
+// beyond the float range) to 4e37.
 TEST(FuzzRegression, HostileRaysWithNegativeTnearAgreeWithBrute) {
-  Scene scene;
-  std::vector<Triangle> tris;
-  std::vector<std::vector<Vec3f>> steps(3);
-  for (uint32_t i = 0; i < 40; ++i) {
-    const float x = float(i % 8) * 0.25f - 1.0f, y = float(i / 8) * 0.4f - 1.0f;
-    for (uint32_t s = 0; s < 3; ++s) {
-      const float dz = 0.3f * float(s) * float(i % 3);
-      steps[s].push_back({x, y, dz});
-      steps[s].push_back({x + 0.3f, y, dz + 0.1f});
-      steps[s].push_back({x, y + 0.5f, dz - 0.1f});
-    }
-    tris.push_back({3 * i, 3 * i + 1, 3 * i + 2});
-  }
-  scene.addTriangleMesh(std::move(tris), std::move(steps));
-  scene.addSegments({{0, 1}}, {{{0, 0, 1}, {1, 1, 1}}}, {0.1f, 0.2f}, {0.2f, 0.8f});
+  const Scene scene = test::hostileRayScene();
   std::mt19937 rng(99);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  // Direction scales up to Embree-like extremes; directions so short that
-  // hit distances pass ~1e30 are a known open limit (docs/robustness.md).
   const float scales[] = {1e-38f, 1e-20f, 1e-3f, 1.0f, 1e8f, 1e20f, 4e37f};
-  const float dirScales[] = {1e-3f, 1.0f, 1e4f, 1e8f, 1e20f, 1e30f, 4e37f};
+  const float dirScales[] = {1e-42f, 1e-38f, 1e-30f, 1e-20f, 1e-3f, 1.0f, 1e4f, 1e8f, 1e20f, 1e30f, 4e37f};
   std::vector<Ray> rays;
-  for (int i = 0; i < 20000; ++i) {
+  for (int i = 0; i < 22000; ++i) {
     Ray r;
-    const float so = scales[i % 3], sd = dirScales[(i / 3) % 7];
+    const float so = scales[i % 3], sd = dirScales[(i / 3) % 11];
     r.org = Vec3f{u(rng), u(rng), u(rng)} * (i % 2 ? so : 1.0f);
     const Vec3f target{u(rng), u(rng), u(rng) * 0.3f};
     r.dir = (target - r.org) * sd;
     if (!isFinite(r.dir) || r.dir == Vec3f(0.0f)) r.dir = target - r.org;
-    const float reach = 4.0f / std::max(1e-30f, length(r.dir));
+    const double len = std::hypot(double(r.dir.x), double(r.dir.y), double(r.dir.z));
+    const float reach = float(std::min(4.0 / len, double(std::numeric_limits<float>::max())));
     r.tnear = -reach * (i % 5 == 0 ? 1e8f : 1.0f) * u(rng) * u(rng);
     r.tfar = i % 4 == 0 ? kInf : reach;
     if (!(r.tnear <= r.tfar) || !std::isfinite(r.tnear)) r.tnear = 0.0f;
     r.time = 0.5f * (u(rng) + 1.0f);
     rays.push_back(r);
   }
-  auto brute = test::buildKind(scene, AccelKind::Brute);
+  // Embree's t error is absolute in world units (its own arithmetic): large
+  // relative to t where a short direction puts the hit close to the origin.
+  expectAgreementWithBrute(scene, rays, {}, rays.size() / 10, 2e-3f);
+}
+
+// The policy for short directions (ray.h): a ray is traced as if its
+// direction were scaled by 2^k into [1, 2), exactly. A ray with direction
+// d * 2^-k hits what the ray with d hits, at t * 2^k -- bit for bit --
+// while that t is a finite float; beyond it (denormal directions) it misses.
+TEST(FuzzRegression, ShortDirectionsHitExactlyLikeScaledOnes) {
+  const Scene scene = test::hostileRayScene();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   for (AccelKind kind : availableAccelKinds()) {
-    if (kind == AccelKind::Brute || kind == AccelKind::Frozen || kind == AccelKind::Embree) continue;
-    auto tested = test::buildKind(scene, kind);
-    const auto rep = test::compareWithOracle(*brute, *tested, rays);
-    EXPECT_EQ(rep.wrong, 0u) << toString(kind) << ": " << rep.firstFailure;
-    EXPECT_EQ(rep.anyWrong, 0u) << toString(kind);
-    EXPECT_GT(rep.hits, rays.size() / 10) << toString(kind);
+    auto accel = test::buildKind(scene, kind);
+    size_t hits = 0;
+    for (int i = 0; i < 2000; ++i) {
+      Ray unit;
+      unit.org = {u(rng), u(rng), 2.0f};
+      // Multiples of 1/64: still normal floats after scaling by 2^-120.
+      const auto sixtyFourths = [&](float scale) { return std::round(u(rng) * scale) / 64.0f; };
+      unit.dir = {sixtyFourths(32.0f), sixtyFourths(32.0f), -1.5f - std::fabs(sixtyFourths(32.0f))};
+      unit.time = kind == AccelKind::Frozen ? accel->options().frozenTime : 0.5f * (u(rng) + 1.0f);
+      unit.tnear = 0.25f * (u(rng) + 1.0f);
+      Hit ref;
+      const bool refHit = accel->intersect(unit, ref);
+      hits += refHit ? 1 : 0;
+      for (int k : {20, 60, 100, 120, 140}) {
+        Ray tiny = unit;
+        tiny.dir = {std::ldexp(unit.dir.x, -k), std::ldexp(unit.dir.y, -k), std::ldexp(unit.dir.z, -k)};
+        tiny.tnear = std::min(std::ldexp(unit.tnear, k), std::numeric_limits<float>::max());
+        Hit h;
+        const bool hit = accel->intersect(tiny, h);
+        const bool representable = refHit && std::ldexp(double(ref.t), k) <= std::numeric_limits<float>::max();
+        ASSERT_EQ(hit, representable) << toString(kind) << " ray " << i << " k " << k;
+        EXPECT_EQ(accel->occluded(tiny), representable) << toString(kind) << " ray " << i << " k " << k;
+        if (!hit) continue;
+        EXPECT_EQ(h.primID, ref.primID) << toString(kind);
+        EXPECT_EQ(h.geomID, ref.geomID) << toString(kind);
+        EXPECT_EQ(h.t, std::ldexp(ref.t, k)) << toString(kind) << " ray " << i << " k " << k;
+      }
+    }
+    EXPECT_GT(hits, 200u) << toString(kind);
+    EXPECT_EQ(accel->stats().invalidRays, 0u) << toString(kind);
   }
 }

@@ -13,6 +13,14 @@ constexpr uint32_t kInvalidId = 0xFFFFFFFFu;
 // [0,1]. Only geometries whose mask shares a bit with `mask` are hit.
 // Rays with NaN/inf components, zero direction, time outside [0,1] or NaN, or
 // tnear > tfar are invalid: they miss and are counted in the statistics.
+// The direction need not be normalized, and any finite scale works (1e-45
+// to 3e38): every structure traces the ray as if its direction were scaled
+// by a power of two, 2^k, so that its largest component is in [1, 2), with
+// tnear, tfar scaled by 2^-k and the hit's t scaled back by 2^k. Powers of
+// two keep this exact, except that tnear / tfar (or a hit's t) that become
+// smaller than the smallest normal float round to denormals. A hit is
+// reported only where its t is a finite float: with a very short direction
+// (a denormal one, say) a hit farther than ~3.4e38 in t is a miss.
 struct Ray {
   Vec3f org;
   float tnear = 0.0f;

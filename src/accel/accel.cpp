@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 #include "core/scene_context.h"
 
@@ -14,6 +16,44 @@ bool isValidRay(const Ray& r) {
                       std::isfinite(r.tnear);
   return finite && !(r.dir == Vec3f(0.0f)) && r.time >= 0.0f && r.time <= 1.0f && r.tnear <= r.tfar;
 }
+
+namespace {
+
+constexpr float kMaxFloat = std::numeric_limits<float>::max();
+
+// Structures trace every ray with its direction scaled by a power of two,
+// 2^k, so that its largest component lies in [1, 2); tnear and tfar are
+// scaled by 2^-k and hit distances back by 2^k. Powers of two keep this
+// exact, bar underflow into denormals (of tnear, tfar, t, and of direction
+// components below ~1e-38 times the largest one). The slab tests, the
+// watertight shear and the segment test's |dir| then never overflow nor
+// underflow, whatever the direction's scale (1e-45 to 3e38). The interval
+// is clamped to finite floats: a hit's t is always finite.
+class ScaledRay {
+ public:
+  explicit ScaledRay(const Ray& ray) {
+    const Vec3f a{std::fabs(ray.dir.x), std::fabs(ray.dir.y), std::fabs(ray.dir.z)};
+    int e = 0;
+    std::frexp(maxComponent(a), &e);  // max = f * 2^e, f in [0.5, 1)
+    exponent_ = 1 - e;
+    const Vec3f dir{std::ldexp(ray.dir.x, exponent_), std::ldexp(ray.dir.y, exponent_),
+                    std::ldexp(ray.dir.z, exponent_)};
+    const float tnear = std::ldexp(ray.tnear, -exponent_);
+    const float tfar = std::ldexp(std::min(ray.tfar, kMaxFloat), -exponent_);
+    empty_ = !(tnear <= kMaxFloat) || !(tfar >= -kMaxFloat);  // beyond the float range
+    query_.setup(ray.org, dir, std::max(tnear, -kMaxFloat), std::min(tfar, kMaxFloat), ray.time, ray.mask);
+  }
+  bool empty() const { return empty_; }
+  detail::RayQuery& query() { return query_; }
+  void unscale(Hit& hit) const { hit.t = std::ldexp(hit.t, exponent_); }
+
+ private:
+  detail::RayQuery query_;
+  int exponent_ = 0;
+  bool empty_ = false;
+};
+
+}  // namespace
 
 void TraversalCounters::add(const TraversalCounters& o) {
   rays += o.rays;
@@ -93,8 +133,10 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  detail::RayQuery q(ray);
-  return structure_->intersect(q, hit);
+  ScaledRay q(ray);
+  if (q.empty() || !structure_->intersect(q.query(), hit)) return false;
+  q.unscale(hit);
+  return true;
 }
 
 bool Accel::occluded(const Ray& ray) const {
@@ -102,8 +144,8 @@ bool Accel::occluded(const Ray& ray) const {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  detail::RayQuery q(ray);
-  return structure_->occluded(q);
+  ScaledRay q(ray);
+  return !q.empty() && structure_->occluded(q.query());
 }
 
 bool Accel::intersect(const Ray& ray, Hit& hit, TraversalCounters& counters) const {
@@ -112,10 +154,11 @@ bool Accel::intersect(const Ray& ray, Hit& hit, TraversalCounters& counters) con
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  detail::RayQuery q(ray);
+  ScaledRay q(ray);
   TraversalCounters one;
   one.rays = 1;
-  const bool found = structure_->intersectCounted(q, hit, one);
+  const bool found = !q.empty() && structure_->intersectCounted(q.query(), hit, one);
+  if (found) q.unscale(hit);
   one.maxNodesVisited = one.nodesVisited;
   one.maxPrimitiveTests = one.primitiveTests;
   counters.add(one);

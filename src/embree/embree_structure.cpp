@@ -266,7 +266,7 @@ class EmbreeStructure final : public Structure {
     r.org_x = q.org.x;
     r.org_y = q.org.y;
     r.org_z = q.org.z;
-    r.tnear = q.tnear;
+    r.tnear = std::max(q.tnear, 0.0f);  // Embree never traces behind the origin (it asserts tnear >= 0)
     r.dir_x = q.dir.x;
     r.dir_y = q.dir.y;
     r.dir_z = q.dir.z;

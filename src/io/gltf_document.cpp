@@ -7,23 +7,36 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
+#include <limits>
 
+#include "io/gltf_files.h"
 #include "io/gltf_internal.h"
 
 namespace mbrt::gltf {
 namespace {
 
 // Images are not needed (only geometry, animation and base colours).
-bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
-  return true;
+// tinygltf's file access, guarded (gltf_files.h); it never writes.
+tinygltf::FsCallbacks guardedFileCallbacks(const ExternalBufferRules& rules) {
+  tinygltf::FsCallbacks fs{};
+  fs.FileExists = [](const std::string& path, void*) { return fileExists(path); };
+  fs.ExpandFilePath = [](const std::string& path, void*) { return path; };  // no ~ or $VAR expansion
+  fs.ReadWholeFile = [](std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    std::string why;
+    if (readExternalBuffer(*static_cast<const ExternalBufferRules*>(user), path, *out, why)) return true;
+    if (err) *err += why;
+    return false;
+  };
+  fs.WriteWholeFile = [](std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "mbrt never writes glTF files";
+    return false;
+  };
+  fs.user_data = const_cast<ExternalBufferRules*>(&rules);
+  return fs;
 }
 
-bool hasGlbMagic(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[4] = {};
-  in.read(magic, 4);
-  return in && std::memcmp(magic, "glTF", 4) == 0;
+bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
 }
 
 double normalizedValue(const unsigned char* p, int componentType, bool normalized) {
@@ -115,18 +128,22 @@ void Document::fail(const std::string& what) const { throw Error(path + ": " + w
 Document readDocument(const std::string& path) {
   Document doc;
   doc.path = path;
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  }
+  const std::vector<unsigned char> bytes = readRegularFile(path);
+  const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  const ExternalBufferRules rules = externalBufferRules(path, bytes, glb);
   doc.model = std::make_shared<tinygltf::Model>();
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&ignoreImage, nullptr);
+  loader.SetFsCallbacks(guardedFileCallbacks(rules));
   std::string err, warn;
   bool ok = false;
+  if (bytes.empty()) doc.fail("not a valid glTF file: the file is empty");
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) doc.fail("not a valid glTF file: larger than 4 GiB");
+  const auto size = static_cast<unsigned int>(bytes.size());
   try {
-    ok = hasGlbMagic(path) ? loader.LoadBinaryFromFile(doc.model.get(), &err, &warn, path)
-                           : loader.LoadASCIIFromFile(doc.model.get(), &err, &warn, path);
+    ok = glb ? loader.LoadBinaryFromMemory(doc.model.get(), &err, &warn, bytes.data(), size, rules.folder)
+             : loader.LoadASCIIFromString(doc.model.get(), &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                          size, rules.folder);
   } catch (const std::exception& e) {
     doc.fail(std::string("not a valid glTF file (") + e.what() + ")");
   }

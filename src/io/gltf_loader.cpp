@@ -222,6 +222,8 @@ class Loader {
       if (n < 0 || size_t(n) >= m.nodes.size()) doc_.fail("scene uses node " + std::to_string(n) + " that does not exist");
       const tinygltf::Node& node = m.nodes[size_t(n)];
       for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back(*c);
+      if (node.camera >= 0 && size_t(node.camera) >= m.cameras.size())
+        doc_.fail("node " + std::to_string(n) + " uses camera " + std::to_string(node.camera) + " that does not exist");
       if (node.camera >= 0 && cameraNode_ < 0) cameraNode_ = n;
       if (node.mesh < 0) continue;
       if (size_t(node.mesh) >= m.meshes.size()) doc_.fail("node " + std::to_string(n) + " uses mesh " + std::to_string(node.mesh) + " that does not exist");
