@@ -735,3 +735,31 @@ TEST(FuzzRegression, ShortDirectionsHitExactlyLikeScaledOnes) {
     EXPECT_EQ(accel->stats().invalidRays, 0u) << toString(kind);
   }
 }
+
+// Found by fuzz_ray_file: from an origin ~10^5..10^7 scene sizes away, with
+// a negative tnear, the whole scene lies at negative distances and the
+// robust slab tests enlarged their far distance towards zero instead of
+// towards +inf (bvh/robust_slab.h), so boxes the ray passes through were
+// culled. Rays from far origins on both sides, every structure vs brute.
+TEST(FuzzRegression, FarOriginsOnEitherSideAgreeWithBrute) {
+  const Scene scene = test::hostileRayScene();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Ray> rays;
+  for (float distance : {5e3f, 5e5f, 4.9957e7f, 1e9f})
+    for (int i = 0; i < 400; ++i) {
+      Ray r;
+      const int axis = 2;  // the grid faces z
+      const float side = i % 2 ? 1.0f : -1.0f;
+      r.org = {u(rng), u(rng), u(rng) * 0.5f};
+      r.org[axis] = side * distance;
+      r.dir = Vec3f(0.0f);
+      r.dir[axis] = (i / 2) % 2 ? 1.0f : -1.0f;  // towards the scene or away from it
+      r.tnear = -2.0f * distance;
+      r.tfar = 2.0f * distance;
+      r.time = 0.5f * (u(rng) + 1.0f);
+      rays.push_back(r);
+    }
+  // Embree traces from t = 0 on: half of these rays reach the scene at t < 0.
+  expectAgreementWithBrute(scene, rays, {}, rays.size() / 10, 2e-3f);
+}

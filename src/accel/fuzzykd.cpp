@@ -460,7 +460,7 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
         if (!AnyHit && it.tmin > local.tfar) continue;
         node = it.node;
         tmin = it.tmin;
-        tmax = std::min(it.tmax, local.tfar * (1.0f + kKdSplitSlack));
+        tmax = std::min(it.tmax, enlargeFar(local.tfar, kKdSplitSlack));
         break;
       }
     }

@@ -8,13 +8,12 @@
 #include <limits>
 #include <vector>
 
+#include "bvh/robust_slab.h"
 #include "bvh/wide_bvh.h"
 #include "bvh/leaf_intersect.h"
 
 namespace mbrt::detail {
 
-// 1 + 2*gamma(3), gamma(n) = n*eps / (1 - n*eps), eps = 2^-24.
-inline constexpr float kRobustFarScale = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
 
 // The ray in the form the node test wants, broadcast to W lanes.
 template <int W>
@@ -40,7 +39,7 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
                               const LaneTimes<N>* times = nullptr) {
   static_assert(N % W == 0);
   using P = Pack<W>;
-  const P far = P::set1(tfar), scale = P::set1(kRobustFarScale), inf = P::set1(kInf);
+  const P far = P::set1(tfar), inf = P::set1(kInf);
   uint32_t mask = 0;
   for (int base = 0; base < N; base += W) {
     P tn = r.tnear, tf = inf;
@@ -55,7 +54,7 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
       tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
       tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
     }
-    tf = vmin(tf * scale, far);
+    tf = vmin(robustFar(tf), far);
     uint32_t hit = lessEqualMask(tn, tf);
     if (times) hit &= lessEqualMask(P::load(&times->t0[base]), r.time) & lessMask(r.time, P::load(&times->t1[base]));
     mask |= hit << base;

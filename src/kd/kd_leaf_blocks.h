@@ -15,6 +15,7 @@
 #include <functional>
 #include <vector>
 
+#include "bvh/robust_slab.h"
 #include "bvh/simd.h"
 #include "core/scene_context.h"
 #include "geometry/ray_query.h"
@@ -96,9 +97,7 @@ inline uint32_t kdBlockTest(const KdLeafBlock& b, const KdBlockRay& r, float tfa
     alive |= (lessEqualMask(P::load(&b.t0[base]), r.time) & lessEqualMask(r.time, P::load(&b.t1[base]))) << base;
   boxHits = 0;
   if (alive == 0) return 0;
-  // 1 + 2 gamma(3) (bvh/traverse.h's kRobustFarScale).
-  const P far = P::set1(tfar), scale = P::set1(1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f)),
-          inf = P::set1(kInf);
+  const P far = P::set1(tfar), inf = P::set1(kInf);
   for (int base = 0; base < kKdBlockLanes; base += W) {
     P tn = r.tnear, tf = inf;
     for (int a = 0; a < 3; ++a) {
@@ -108,7 +107,7 @@ inline uint32_t kdBlockTest(const KdLeafBlock& b, const KdBlockRay& r, float tfa
       tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
       tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
     }
-    tf = vmin(tf * scale, far);
+    tf = vmin(robustFar(tf), far);
     boxHits |= lessEqualMask(tn, tf) << base;
   }
   boxHits &= alive;

@@ -14,6 +14,7 @@
 
 #include <cmath>
 
+#include "bvh/robust_slab.h"
 #include "geometry/primitive_intersect.h"
 #include "kd/kd_node.h"
 
@@ -31,7 +32,7 @@ inline bool clipToBox(const RayQuery& ray, const Box3f& box, float& tmin, float&
     float t1 = (box.upper[a] - ray.org[a]) * ray.rdir[a];
     if (t0 > t1) std::swap(t0, t1);
     if (t0 > tmin) tmin = t0;
-    t1 *= 1.0f + kKdSplitSlack;
+    t1 = enlargeFar(t1, kKdSplitSlack);
     if (t1 < tmax) tmax = t1;
   }
   return tmin <= tmax;
@@ -131,7 +132,7 @@ bool kdWalk(const KdTree& tree, RayQuery& ray, TraversalCounters* counters, Leaf
       if (!AnyHit && it.tmin > ray.tfar) continue;
       node = it.node;
       tmin = it.tmin;
-      tmax = std::min(it.tmax, ray.tfar * (1.0f + kKdSplitSlack));
+      tmax = std::min(it.tmax, enlargeFar(ray.tfar, kKdSplitSlack));
       break;
     }
   }

@@ -74,7 +74,7 @@ template <int W, int N>
 inline uint32_t intersectKeys(const KeyPlanes<N>& k0, const KeyPlanes<N>& k1, const KeyRay<W>& r, float tfar,
                               float* dist) {
   using P = Pack<W>;
-  const P far = P::set1(tfar), scale = P::set1(kRobustFarScale), inf = P::set1(kInf);
+  const P far = P::set1(tfar), inf = P::set1(kInf);
   uint32_t mask = 0;
   for (int base = 0; base < N; base += W) {
     P tn = r.tnear, tf = inf;
@@ -87,7 +87,7 @@ inline uint32_t intersectKeys(const KeyPlanes<N>& k0, const KeyPlanes<N>& k1, co
       tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
       tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
     }
-    tf = vmin(tf * scale, far);
+    tf = vmin(robustFar(tf), far);
     mask |= lessEqualMask(tn, tf) << base;
     tn.store(dist + base);
   }
