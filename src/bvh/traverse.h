@@ -69,23 +69,23 @@ struct TraversalItem {
   float dist;      // entry distance
 };
 
-// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
-// boxTime is the ray's time in the tree's time parameter; the leaf test uses
-// ray.time. Count adds nodes visited, box tests and primitive tests.
-template <bool AnyHit, bool Count, int N, bool Motion>
-bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
-              TraversalCounters* counters) {
-  if (bvh.empty()) return false;
-  constexpr int W = packWidth<N>();
+// The front-to-back loop of every N-wide tree (the BVH kinds and `msbvh`).
+// nodeAt(i) gives node i (its child[] and count[] lanes); testNode(node, i,
+// dist) returns the mask of lanes the ray enters, with their entry distances
+// in dist; leaf(first, count) tests a leaf's references and returns true on
+// a hit (for AnyHit: the ray is occluded, the walk stops). The nearest child
+// is visited next, the others go on the stack farthest first.
+template <bool AnyHit, bool Count, int N, class NodeAt, class TestNode, class Leaf>
+bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* counters, NodeAt&& nodeAt,
+                  TestNode&& testNode, Leaf&& leaf) {
   constexpr uint32_t kLocalStack = 256;
   TraversalItem local[kLocalStack];
   std::vector<TraversalItem> big;
   TraversalItem* stack = local;
-  if (bvh.stackSize > kLocalStack) {
-    big.resize(bvh.stackSize);
+  if (stackSize > kLocalStack) {
+    big.resize(stackSize);
     stack = big.data();
   }
-  const NodeRay<W> r(ray, boxTime);
   alignas(32) float dist[N];
   bool found = false;
   uint32_t sp = 0;
@@ -95,15 +95,13 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
     if (!AnyHit && item.dist > ray.tfar) continue;
     while (true) {
       if (item.count == 0) {
-        const WideNode<N, Motion>& node = bvh.nodes[item.child];
+        const auto& node = nodeAt(item.child);
         if constexpr (Count) {
           ++counters->nodesVisited;
           counters->boxTests += N;
         }
-        const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
-        uint32_t mask = intersectNode<W>(node, r, ray.tfar, dist, times);
+        uint32_t mask = testNode(node, item.child, dist);
         if (mask == 0) break;
-        // Nearest child next; the others go on the stack, farthest first.
         int lane = __builtin_ctz(mask);
         mask &= mask - 1;
         if (mask == 0) {
@@ -128,18 +126,36 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
         item = hits[n - 1];
         continue;
       }
-      // Leaf.
       if constexpr (Count) counters->primitiveTests += item.count;
-      const PrimRef* prims = bvh.prims.data() + item.child;
-      if constexpr (AnyHit) {
-        if (occludedLeaf(ctx, prims, item.count, ray)) return true;
-      } else {
-        found |= intersectLeaf(ctx, prims, item.count, ray, *hit, Count ? counters : nullptr);
+      if (leaf(item.child, item.count)) {
+        if constexpr (AnyHit) return true;
+        found = true;
       }
       break;
     }
   }
   return found;
+}
+
+// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
+// boxTime is the ray's time in the tree's time parameter; the leaf test uses
+// ray.time. Count adds nodes visited, box tests and primitive tests.
+template <bool AnyHit, bool Count, int N, bool Motion>
+bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
+              TraversalCounters* counters) {
+  if (bvh.empty()) return false;
+  const NodeRay<packWidth<N>()> r(ray, boxTime);
+  return wideTraverse<AnyHit, Count, N>(
+      bvh.stackSize, ray, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
+      [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
+        const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
+        return intersectNode<packWidth<N>()>(node, r, ray.tfar, dist, times);
+      },
+      [&](uint32_t first, uint32_t count) {
+        const PrimRef* prims = bvh.prims.data() + first;
+        if constexpr (AnyHit) return occludedLeaf(ctx, prims, count, ray);
+        else return intersectLeaf(ctx, prims, count, ray, *hit, Count ? counters : nullptr);
+      });
 }
 
 }  // namespace mbrt::detail

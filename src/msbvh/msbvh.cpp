@@ -341,72 +341,27 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   template <bool AnyHit, bool Count>
   bool traverse(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     if (nodes_.empty()) return false;
-    constexpr int W = packWidth<N>();
-    constexpr uint32_t kLocalStack = 256;
-    TraversalItem local[kLocalStack];
-    std::vector<TraversalItem> big;
-    TraversalItem* stack = local;
-    if (stackSize_ > kLocalStack) {
-      big.resize(stackSize_);
-      stack = big.data();
-    }
-    const KeyRay<W> r(ray, n_);
+    const KeyRay<packWidth<N>()> r(ray, n_);
     const size_t stride = n_ + 1;
     const KeyPlanes<N>* keyBase = keys_.data() + r.key;
-    alignas(32) float dist[N];
-    bool found = false;
-    uint32_t sp = 0;
-    stack[sp++] = {0, 0, ray.tnear};
-    while (sp != 0) {
-      TraversalItem item = stack[--sp];
-      if (!AnyHit && item.dist > ray.tfar) continue;
-      while (true) {
-        if (item.count == 0) {
-          const MsNode<N>& node = nodes_[item.child];
-          const KeyPlanes<N>* k = keyBase + size_t(item.child) * stride;
-          if constexpr (Count) {
-            ++counters->nodesVisited;
-            counters->boxTests += N;
-          }
-          uint32_t mask = intersectKeys<W>(k[0], k[1], r, ray.tfar, dist);
-          if (mask == 0) break;
-          int lane = __builtin_ctz(mask);
-          mask &= mask - 1;
-          if (mask == 0) {
-            item = {node.child[lane], node.count[lane], dist[lane]};
-            continue;
-          }
-          TraversalItem hits[N];
-          int n = 0;
-          hits[n++] = {node.child[lane], node.count[lane], dist[lane]};
-          do {
-            lane = __builtin_ctz(mask);
-            mask &= mask - 1;
-            TraversalItem h{node.child[lane], node.count[lane], dist[lane]};
-            int j = n++;
-            while (j > 0 && hits[j - 1].dist < h.dist) {
-              hits[j] = hits[j - 1];
-              --j;
+    return wideTraverse<AnyHit, Count, N>(
+        stackSize_, ray, counters, [&](uint32_t i) -> const MsNode<N>& { return nodes_[i]; },
+        [&](const MsNode<N>&, uint32_t i, float* dist) {
+          const KeyPlanes<N>* k = keyBase + size_t(i) * stride;
+          return intersectKeys<packWidth<N>()>(k[0], k[1], r, ray.tfar, dist);
+        },
+        [&](uint32_t first, uint32_t count) {
+          const PrimRef* prims = prims_.data() + first;
+          bool found = false;
+          for (uint32_t i = 0; i < count; ++i) {
+            if constexpr (AnyHit) {
+              if (occludedPrimitive(ctx_, prims[i], ray)) return true;
+            } else {
+              found |= intersectPrimitive(ctx_, prims[i], ray, *hit, Count ? counters : nullptr);
             }
-            hits[j] = h;
-          } while (mask != 0);
-          for (int i = 0; i + 1 < n; ++i) stack[sp++] = hits[i];
-          item = hits[n - 1];
-          continue;
-        }
-        if constexpr (Count) counters->primitiveTests += item.count;
-        const PrimRef* prims = prims_.data() + item.child;
-        for (uint32_t i = 0; i < item.count; ++i) {
-          if constexpr (AnyHit) {
-            if (occludedPrimitive(ctx_, prims[i], ray)) return true;
-          } else {
-            found |= intersectPrimitive(ctx_, prims[i], ray, *hit, Count ? counters : nullptr);
           }
-        }
-        break;
-      }
-    }
-    return found;
+          return found;
+        });
   }
 
   const SceneContext& ctx_;
