@@ -3,6 +3,7 @@
 #include "bvh/simd.h"
 
 #include <algorithm>
+#include <cstring>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -88,7 +89,9 @@ struct BinBounds {
 
  private:
   static __m128 load3(const float* f) {
-    const __m128 xy = _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(f)));
+    double x_y;  // the two floats x, y as one 8-byte load (f need not be 8-byte aligned)
+    std::memcpy(&x_y, f, sizeof x_y);
+    const __m128 xy = _mm_castpd_ps(_mm_set_sd(x_y));
     return _mm_movelh_ps(xy, _mm_load_ss(f + 2));
   }
 };
