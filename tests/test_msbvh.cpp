@@ -274,7 +274,9 @@ TEST(Msbvh, KeyCountIsAPowerOfTwoCoveringEveryMesh) {
     EXPECT_EQ(n & (n - 1), 0u) << steps;
     EXPECT_GE(n, std::min(detail::kMaxKeySegments, std::max(1u, steps - 1))) << steps;
     auto s = detail::makeStructure(ctx);
-    EXPECT_EQ(detail::msbvhKeySegments(*s), n);
+    const uint32_t kept = detail::msbvhKeySegments(*s);
+    EXPECT_EQ(kept & (kept - 1), 0u) << steps;
+    EXPECT_LE(kept, n) << steps;
   }
   // A mesh with 2 segments over half the shutter needs keys every 1/4.
   Scene scene;
@@ -420,4 +422,53 @@ TEST(Msbvh, RefitWithInstancesRebuilds) {
   auto accel = test::buildKind(scene, AccelKind::Msbvh);
   EXPECT_FALSE(accel->refit());
   expectOracle(scene, *accel, randomRays(rng, 1000, {0.0f, 1.0f}), "instances");
+}
+
+// Keys where the motion needs them: a translation sampled at 6 steps is
+// bounded as tightly by 2 keys as by 9 (one segment), a quarter turn sampled
+// at 6 steps is not (8 segments, keys on its steps' power of two). A
+// translation with a slight wobble gets fewer keys than steps too: its steps
+// fall between the keys and push them out (the breaks), which must stay exact.
+// Every structure agrees with brute at every step time and between.
+TEST(Msbvh, KeysAreKeptOnlyWhereTheMotionCurves) {
+  for (const int motion : {0, 1, 2}) {  // translation, quarter turn, wobbling translation
+    const bool turn = motion == 1;
+    ProceduralScene ps;
+    ps.scene = std::make_shared<Scene>();
+    Scene& scene = *ps.scene;
+    std::vector<Triangle> tris;
+    std::vector<std::vector<Vec3f>> steps(6);
+    for (uint32_t i = 0; i < 64; ++i) {
+      const float x = float(i % 8) * 0.3f - 1.2f, y = float(i / 8) * 0.3f - 1.2f;
+      const Vec3f v[3] = {{x, y, 0.0f}, {x + 0.25f, y, 0.05f}, {x, y + 0.25f, -0.05f}};
+      for (uint32_t k = 0; k < 6; ++k) {
+        const float t = float(k) / 5.0f, angle = 1.5707964f * t;
+        for (const Vec3f& p : v)
+          steps[k].push_back(turn ? Vec3f{p.x * std::cos(angle) - p.y * std::sin(angle),
+                                          p.x * std::sin(angle) + p.y * std::cos(angle), p.z}
+                                  : p + Vec3f{0.8f * t, 0.3f * t, 0.1f * t} +
+                                        Vec3f{0.0f, 0.0f, motion == 2 ? 0.004f * std::sin(9.0f * t) : 0.0f});
+      }
+      tris.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    scene.addTriangleMesh(std::move(tris), std::move(steps));
+    BuildOptions o;
+    o.kind = AccelKind::Msbvh;
+    detail::BuildBudget budget;
+    detail::SceneContext ctx(scene, o, budget);
+    EXPECT_EQ(detail::chooseKeySegments(ctx), 8u);
+    auto s = detail::makeStructure(ctx);
+    const uint32_t kept = detail::msbvhKeySegments(*s);
+    if (motion == 2) EXPECT_LT(kept, 8u) << "the wobble's steps fall between keys";
+    else EXPECT_EQ(kept, turn ? 8u : 1u) << "motion " << motion;
+
+    auto brute = test::buildKind(scene, AccelKind::Brute);
+    auto msbvh = test::buildKind(scene, AccelKind::Msbvh);
+    ps.camera = frameBox(Box3f({-2.0f, -2.0f, -0.5f}, {2.0f, 2.0f, 0.5f}));
+    const auto rays = test::oracleRays(ps, 2000, 200, 3);
+    const auto rep = test::compareWithOracle(*brute, *msbvh, rays);
+    EXPECT_EQ(rep.wrong, 0u) << "motion " << motion << ": " << rep.firstFailure;
+    EXPECT_EQ(rep.anyWrong, 0u) << "motion " << motion;
+    EXPECT_GT(rep.hits, 300u);
+  }
 }

@@ -1,5 +1,6 @@
 #include "msbvh/key_bounds.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "geometry/clip.h"
@@ -139,6 +140,39 @@ bool KeyBounder::pieceKeys(PrimRef prim, const Box3f& region, Box3f* out) const 
   const Vec3f pad(mag * 0x1p-19f);
   for (uint32_t i = 0; i <= n_; ++i) out[i] = widen(grow(out[i], pad));
   return true;
+}
+
+}  // namespace mbrt::detail
+
+namespace mbrt::detail {
+
+uint32_t fitKeySegments(const SceneContext& ctx, uint32_t maxSegments) {
+  if (maxSegments <= 1) return maxSegments;
+  const std::vector<PrimRef> prims = ctx.primitives();
+  const size_t sample = std::min<size_t>(prims.size(), 2048);
+  if (sample == 0) return maxSegments;
+  // Mean half area of the sampled primitives' interpolated key boxes at 16
+  // times; each primitive is its own piece (clipped to its own box).
+  auto meanArea = [&](uint32_t n) {
+    const KeyBounder bounder(ctx, n);
+    std::vector<Box3f> keys(n + 1);
+    double sum = 0.0;
+    for (size_t j = 0; j < sample; ++j) {
+      const PrimRef prim = prims[j * prims.size() / sample];
+      if (!bounder.pieceKeys(prim, bounder.buildBox(prim), keys.data())) continue;
+      for (int i = 0; i < 16; ++i) {
+        const float x = (float(i) + 0.5f) / 16.0f * float(n);
+        const uint32_t k = std::min(uint32_t(x), n - 1);
+        const Box3f b = lerp(keys[k], keys[k + 1], x - float(k));
+        if (!b.empty()) sum += double(b.halfArea());
+      }
+    }
+    return sum;
+  };
+  const double finest = meanArea(maxSegments);
+  for (uint32_t n = 1; n < maxSegments; n *= 2)
+    if (meanArea(n) <= finest * (1.0 + kKeyAreaSlack)) return n;
+  return maxSegments;
 }
 
 }  // namespace mbrt::detail

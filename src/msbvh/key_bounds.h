@@ -1,9 +1,11 @@
 // Per-key bounds of MSBVH references (Grünschloß et al. 2011, §3.1, §6.3).
 //
-// A structure has n + 1 key times t_i = i/n, n a power of two: the smallest
-// one with at least (S-1)/|range| segments for every geometry, so that mesh
-// steps fall on keys wherever they can (the paper resamples children with
-// fewer segments; powers of two make them coincide). At most kMaxKeySegments.
+// A structure has n + 1 key times t_i = i/n, n a power of two. The steps
+// ask for the smallest one with at least (S-1)/|range| segments for every
+// geometry, so that mesh steps fall on keys wherever they can (the paper
+// resamples children with fewer segments; powers of two make them
+// coincide; at most kMaxKeySegments); fitKeySegments then keeps fewer where
+// the motion is linear enough that they bound as tightly.
 //
 // A reference's *piece* is its primitive clipped to the reference's region
 // (spatial_split.h) at the build time t = 0.5: a convex polygon in the
@@ -39,6 +41,15 @@ constexpr uint32_t kMaxKeySegments = 32;
 constexpr float kBuildTime = 0.5f;
 
 uint32_t chooseKeySegments(const SceneContext& ctx);
+
+// Fewer keys where they bound as tightly: any n is conservative (the breaks
+// below), so where the motion is linear in time over several steps (a
+// translation sampled at 6 steps) keys at every step only cost memory and
+// cache. Returns the smallest power of two n <= maxSegments whose
+// interpolated bounds of a sample of primitives have a mean area within
+// kKeyAreaSlack of those with maxSegments; maxSegments where none is.
+inline constexpr double kKeyAreaSlack = 0.01;
+uint32_t fitKeySegments(const SceneContext& ctx, uint32_t maxSegments);
 
 class KeyBounder final : public RefClipper {
  public:

@@ -105,7 +105,11 @@ class MsbvhBase : public Structure {
 template <int N>
 class Msbvh final : public MsbvhBase, public BvhInspect {
  public:
-  explicit Msbvh(const SceneContext& ctx) : ctx_(ctx), n_(chooseKeySegments(ctx)), bounder_(ctx, n_) {
+  explicit Msbvh(const SceneContext& ctx)
+      : ctx_(ctx),
+        stepSegments_(chooseKeySegments(ctx)),
+        n_(fitKeySegments(ctx, stepSegments_)),
+        bounder_(ctx, n_) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
     BuildBudget& budget = ctx.budget();
@@ -179,7 +183,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   bool refit() override {
     for (uint32_t g = 0; g < ctx_.scene().numGeometries(); ++g)
       if (ctx_.geometry(g).type() == GeometryType::Instance) return false;
-    if (chooseKeySegments(ctx_) != n_) return false;
+    if (chooseKeySegments(ctx_) != stepSegments_) return false;  // other steps: other breaks
     if (nodes_.empty()) return numPrims_ == 0;
     computeLeafKeys();
     propagate();
@@ -365,7 +369,8 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   }
 
   const SceneContext& ctx_;
-  uint32_t n_;
+  uint32_t stepSegments_;  // keys on every step (chooseKeySegments)
+  uint32_t n_;             // the keys kept (fitKeySegments)
   KeyBounder bounder_;
   std::vector<MsNode<N>> nodes_;
   std::vector<KeyPlanes<N>> keys_;  // (n_ + 1) per node
