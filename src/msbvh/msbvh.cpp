@@ -1,8 +1,11 @@
 #include "msbvh/msbvh.h"
 
+#include <algorithm>
+
 #include <tbb/parallel_for.h>
 
 #include "bvh/inspect.h"
+#include "bvh/leaf_intersect.h"
 #include "bvh/sah_cost.h"
 #include "bvh/simd.h"
 #include "bvh/traverse.h"
@@ -265,9 +268,14 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
       if (c.isLeaf()) {
         nodes_[index].child[l] = uint32_t(prims_.size());
         nodes_[index].count[l] = uint8_t(c.refs.size());
-        for (const SplitRef& r : c.refs) {
-          prims_.push_back(r.prim);
-          regions_.push_back(r.region);
+        // Sorted by geometry: the leaf test takes one run of a geometry at a time.
+        std::vector<const SplitRef*> order;
+        for (const SplitRef& r : c.refs) order.push_back(&r);
+        std::stable_sort(order.begin(), order.end(),
+                         [](const SplitRef* a, const SplitRef* b) { return a->prim.geomID < b->prim.geomID; });
+        for (const SplitRef* r : order) {
+          prims_.push_back(r->prim);
+          regions_.push_back(r->region);
         }
       } else {
         const uint32_t child = emit(c, depth + 1);
@@ -356,15 +364,8 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
         },
         [&](uint32_t first, uint32_t count) {
           const PrimRef* prims = prims_.data() + first;
-          bool found = false;
-          for (uint32_t i = 0; i < count; ++i) {
-            if constexpr (AnyHit) {
-              if (occludedPrimitive(ctx_, prims[i], ray)) return true;
-            } else {
-              found |= intersectPrimitive(ctx_, prims[i], ray, *hit, Count ? counters : nullptr);
-            }
-          }
-          return found;
+          if constexpr (AnyHit) return occludedLeaf(ctx_, prims, count, ray);
+          else return intersectLeaf(ctx_, prims, count, ray, *hit, Count ? counters : nullptr);
         });
   }
 
