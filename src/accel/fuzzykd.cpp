@@ -417,29 +417,9 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     RayQuery local;
     local.setup(inv.xfmPoint(ray.org), inv.xfmVector(ray.dir), ray.tnear, ray.tfar, ray.time, ray.mask);
     const FuzzyTree& tree = c.tree;
-    float tmin, tmax;
-    if (!clipToBox(local, tree.root, tmin, tmax)) return false;
-    struct Item {
-      uint32_t node;
-      float tmin, tmax;
-    };
-    Item stack[64];
-    int sp = 0;
     KdMailbox mailbox;
-    bool found = false;
-    uint32_t node = 0;
-    while (true) {
-      const KdNode& n = tree.nodes[node];
-      if constexpr (Count) {
-        ++counters->nodesVisited;
-        ++counters->boxTests;
-      }
-      if (!n.isLeaf()) {
-        node = kdInnerStep(n, node, local, tmin, tmax, [&](uint32_t child, float t0, float t1) {
-          stack[sp++] = {child, t0, t1};
-        });
-        continue;
-      }
+    return kdWalk<AnyHit, Count>(tree, local, counters, [&](const KdNode& n) {
+      bool found = false;
       const uint32_t* refs = tree.refs.data() + n.first();
       for (uint32_t i = 0, cnt = n.count(); i < cnt; ++i) {
         const uint32_t prim = refs[i];
@@ -447,23 +427,13 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
         if constexpr (Count) ++counters->primitiveTests;
         if constexpr (AnyHit) {
           if (occludedPrimitive(ctx_, c.prims[prim], ray)) return true;
-        } else {
-          if (intersectPrimitive(ctx_, c.prims[prim], ray, *hit, Count ? counters : nullptr)) {
-            found = true;
-            local.tfar = ray.tfar;
-          }
+        } else if (intersectPrimitive(ctx_, c.prims[prim], ray, *hit, Count ? counters : nullptr)) {
+          found = true;
+          local.tfar = ray.tfar;
         }
       }
-      while (true) {
-        if (sp == 0) return found;
-        const Item& it = stack[--sp];
-        if (!AnyHit && it.tmin > local.tfar) continue;
-        node = it.node;
-        tmin = it.tmin;
-        tmax = std::min(it.tmax, enlargeFar(local.tfar, kKdSplitSlack));
-        break;
-      }
-    }
+      return found;
+    });
   }
 
   // DESIGN.md's SAH (C_T = C_I = 1, areas averaged over 8 times). Top-level

@@ -96,9 +96,10 @@ inline uint32_t kdInnerStep(const KdNode& n, uint32_t node, const RayQuery& ray,
 // The walk: visits the cells the ray crosses, front to back, and calls
 // leaf(node) for each leaf; leaf returns true when it found a hit (any hit:
 // the walk stops). Counts one node visit and one box test per node.
-template <bool AnyHit, bool Count, class Leaf>
-bool kdWalk(const KdTree& tree, RayQuery& ray, TraversalCounters* counters, Leaf&& leaf) {
-  if (tree.empty()) return false;
+// Tree: a KdTree or anything with its `nodes` and `root` (the fuzzy trees).
+template <bool AnyHit, bool Count, class Tree, class Leaf>
+bool kdWalk(const Tree& tree, RayQuery& ray, TraversalCounters* counters, Leaf&& leaf) {
+  if (tree.nodes.empty()) return false;
   float tmin, tmax;
   if (!clipToBox(ray, tree.root, tmin, tmax)) return false;
   struct Item {

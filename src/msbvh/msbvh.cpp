@@ -53,23 +53,18 @@ struct MsNode {
   bool isLeaf(int lane) const { return count[lane] != 0; }
 };
 
+// The node ray (bvh/traverse.h) whose box time is the fraction between the
+// two keys around the ray's time.
 template <int W>
-struct KeyRay {
-  Pack<W> org[3], rdir[3], tnear, frac;
-  int nearPlane[3];
+struct KeyRay : NodeRay<W> {
   uint32_t key;  // interval: keys key and key + 1
 
-  KeyRay(const RayQuery& ray, uint32_t segments) {
-    for (int a = 0; a < 3; ++a) {
-      org[a] = Pack<W>::set1(ray.org[a]);
-      rdir[a] = Pack<W>::set1(ray.rdir[a]);
-      nearPlane[a] = std::signbit(ray.rdir[a]) ? 1 : 0;
-    }
-    tnear = Pack<W>::set1(ray.tnear);
-    const float x = std::clamp(ray.time, 0.0f, 1.0f) * float(segments);
-    key = std::min(uint32_t(x), segments - 1);
-    frac = Pack<W>::set1(x - float(key));
-  }
+  KeyRay(const RayQuery& ray, uint32_t segments)
+      : KeyRay(ray, segments, std::clamp(ray.time, 0.0f, 1.0f) * float(segments)) {}
+
+ private:
+  KeyRay(const RayQuery& ray, uint32_t segments, float x)
+      : NodeRay<W>(ray, x - float(std::min(uint32_t(x), segments - 1))), key(std::min(uint32_t(x), segments - 1)) {}
 };
 
 // The node test at the interpolated box lerp(k0, k1, f) = k0 + f*(k1 - k0).
@@ -85,8 +80,8 @@ inline uint32_t intersectKeys(const KeyPlanes<N>& k0, const KeyPlanes<N>& k1, co
       const int nearK = r.nearPlane[a], farK = 1 - nearK;
       const P lo0 = P::load(&k0.plane[a][nearK][base]), lo1 = P::load(&k1.plane[a][nearK][base]);
       const P hi0 = P::load(&k0.plane[a][farK][base]), hi1 = P::load(&k1.plane[a][farK][base]);
-      const P lo = fmadd(r.frac, lo1 - lo0, lo0);
-      const P hi = fmadd(r.frac, hi1 - hi0, hi0);
+      const P lo = fmadd(r.time, lo1 - lo0, lo0);  // r.time: the fraction between the keys
+      const P hi = fmadd(r.time, hi1 - hi0, hi0);
       tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
       tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
     }
