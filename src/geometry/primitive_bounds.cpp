@@ -39,17 +39,19 @@ LBounds widen(const LBounds& bounds) {
 
 Box3f boxAt(const SceneContext& ctx, PrimRef ref, float time) {
   const Geometry& g = ctx.geometry(ref.geomID);
-  if (g.numSteps() == 1) return ctx.keyBox(ref, 0);
+  const PrimKeys keys = ctx.keys(ref);
+  if (g.numSteps() == 1) return keys(0);
   const TimeRange r = g.timeRange();
   uint32_t s;
   float f;
   g.segmentAt(std::clamp(time, r.lo, r.hi), s, f);
-  return lerp(ctx.keyBox(ref, s), ctx.keyBox(ref, s + 1), f);
+  return lerp(keys(s), keys(s + 1), f);
 }
 
 LBounds linearBounds(const SceneContext& ctx, PrimRef ref, TimeRange range) {
   const Geometry& g = ctx.geometry(ref.geomID);
-  if (g.numSteps() == 1) return widen(LBounds(ctx.keyBox(ref, 0)));
+  const PrimKeys keys = ctx.keys(ref);
+  if (g.numSteps() == 1) return widen(LBounds(keys(0)));
   // The ends interpolate keys s0, s0 + 1 and s1, s1 + 1 (as boxAt); the keys
   // inside the range lie among s0 .. s1 + 1. Each key box is made once.
   const TimeRange r = g.timeRange();
@@ -57,9 +59,9 @@ LBounds linearBounds(const SceneContext& ctx, PrimRef ref, TimeRange range) {
   float f0, f1;
   g.segmentAt(std::clamp(range.lo, r.lo, r.hi), s0, f0);
   g.segmentAt(std::clamp(range.hi, r.lo, r.hi), s1, f1);
-  const Box3f k00 = ctx.keyBox(ref, s0), k01 = ctx.keyBox(ref, s0 + 1);
-  const Box3f k10 = s1 == s0 ? k00 : (s1 == s0 + 1 ? k01 : ctx.keyBox(ref, s1));
-  const Box3f k11 = s1 == s0 ? k01 : ctx.keyBox(ref, s1 + 1);
+  const Box3f k00 = keys(s0), k01 = keys(s0 + 1);
+  const Box3f k10 = s1 == s0 ? k00 : (s1 == s0 + 1 ? k01 : keys(s1));
+  const Box3f k11 = s1 == s0 ? k01 : keys(s1 + 1);
   LBounds lb(lerp(k00, k01, f0), lerp(k10, k11, f1));
   if (range.hi > range.lo) {
     Vec3f pushLower(0.0f), pushUpper(0.0f);
@@ -67,7 +69,7 @@ LBounds linearBounds(const SceneContext& ctx, PrimRef ref, TimeRange range) {
       const float tk = g.stepTime(k);
       if (!(tk > range.lo && tk < range.hi)) continue;
       const Box3f line = lb.at((tk - range.lo) / range.size());
-      const Box3f key = k == s0 ? k00 : k == s0 + 1 ? k01 : k == s1 ? k10 : k == s1 + 1 ? k11 : ctx.keyBox(ref, k);
+      const Box3f key = k == s0 ? k00 : k == s0 + 1 ? k01 : k == s1 ? k10 : k == s1 + 1 ? k11 : keys(k);
       pushLower = min(pushLower, key.lower - line.lower);
       pushUpper = max(pushUpper, key.upper - line.upper);
     }
