@@ -122,11 +122,13 @@ RefSetInfo summarize(std::span<const BuildRef> refs) {
 
 namespace {
 
-// Embree's object binner scales the bin count with the node: 4 + 5% of its
-// references, at most `maxBins` (small nodes fill and sweep few bins).
+// Bins per axis grow with the node, as in Embree's object binner, at most
+// `maxBins`: small nodes fill and sweep few bins. Embree's 4 + 5% of the
+// references cost `hair` 5% SAH and 8% more intersections per ray; 8 + 10%
+// costs 2% and 3% and saves nearly as much binning (docs/stbvh.md).
 constexpr int kMaxBins = 256;  // BuildOptions::sahBins at most (accel.cpp)
 int adaptiveBins(int maxBins, size_t count) {
-  return std::min({maxBins, kMaxBins, int(4.0f + 0.05f * float(std::min<size_t>(count, 1 << 20)))});
+  return std::min({maxBins, kMaxBins, int(8.0f + 0.1f * float(std::min<size_t>(count, 1 << 20)))});
 }
 
 // Bins of the three axes, on the stack for the many small nodes.
