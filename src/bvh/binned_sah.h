@@ -37,17 +37,21 @@ struct ObjectSplit {
 
 // Best split over all three axes; ties go to the lower axis, then lower bin.
 // primCost counts references in blocks of `leafBlock` (ceil(n / leafBlock)).
-ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
+// Bins per axis: 8 + 10% of the references, at most `maxBins` (Embree
+// scales them likewise, from 4 + 5%).
+ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int maxBins,
                             TimeRange range, int leafBlock = 1);
 
 // References in blocks of `block`, as a leaf cost.
 inline float leafBlocks(uint64_t count, int block) { return float((count + uint64_t(block) - 1) / uint64_t(block)); }
 
-// Moves the left side to the front; returns its size.
-size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split);
+// Moves the left side to the front; returns its size. `sides` gets the
+// summaries of the left and right references (as summarize gives them).
+size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSetInfo sides[2]);
 
 // Splits at the median binning key along `axis` (ties by ids), for when
-// binning cannot separate the references; returns count / 2.
-size_t partitionMedian(std::span<BuildRef> refs, int axis);
+// binning cannot separate the references; returns count / 2, and `sides`
+// as partitionObject does.
+size_t partitionMedian(std::span<BuildRef> refs, int axis, RefSetInfo sides[2]);
 
 }  // namespace mbrt::detail

@@ -24,15 +24,17 @@ struct Decision {
   size_t mid = 0;     // Object: size of the left side (references reordered)
   float time = 0.0f;  // Temporal: split time
   std::vector<BuildRef> left, right;  // Temporal: the halves' references
+  RefSetInfo sides[2];                // Object, Temporal: the children's summaries
 };
 
 class Driver {
  public:
   Driver(const BuildSettings& s, BinaryTree& tree, BuildBudget& budget) : s_(s), tree_(tree), budget_(budget) {}
 
-  // Builds the subtree of `refs` (all made for `range`); returns its node id.
-  uint32_t build(std::span<BuildRef> refs, TimeRange range, int depth) {
-    const RefSetInfo info = summarize(refs);
+  // Builds the subtree of `refs` (all made for `range`, summarized by
+  // `known` when the parent's split did it); returns its node id.
+  uint32_t build(std::span<BuildRef> refs, TimeRange range, int depth, const RefSetInfo* known = nullptr) {
+    const RefSetInfo info = known ? *known : summarize(refs);
     BinaryNode node;
     node.bounds = info.bounds;
     node.range = range;
@@ -51,8 +53,8 @@ class Driver {
     }
     if (d.kind == Decision::Object) {
       const std::span<BuildRef> l = refs.first(d.mid), r = refs.subspan(d.mid);
-      children(node, refs.size(), [&] { return build(l, range, depth + 1); },
-               [&] { return build(r, range, depth + 1); });
+      children(node, refs.size(), [&] { return build(l, range, depth + 1, &d.sides[0]); },
+               [&] { return build(r, range, depth + 1, &d.sides[1]); });
       return store(node);
     }
     // Temporal: both halves are new reference sets, alive while the children build.
@@ -61,10 +63,10 @@ class Driver {
     ScopedCharge scratch(budget_, (left.size() + right.size()) * sizeof(BuildRef), "the temporal split references");
     const TimeRange lr{range.lo, d.time}, rr{d.time, range.hi};
     // A half where nothing is alive gets no child: the node narrows to the other.
-    if (left.empty()) return build(right, rr, depth + 1);
-    if (right.empty()) return build(left, lr, depth + 1);
-    children(node, refs.size(), [&] { return build(left, lr, depth + 1); },
-             [&] { return build(right, rr, depth + 1); });
+    if (left.empty()) return build(right, rr, depth + 1, &d.sides[1]);
+    if (right.empty()) return build(left, lr, depth + 1, &d.sides[0]);
+    children(node, refs.size(), [&] { return build(left, lr, depth + 1, &d.sides[0]); },
+             [&] { return build(right, rr, depth + 1, &d.sides[1]); });
     return store(node);
   }
 
@@ -122,11 +124,12 @@ class Driver {
     if (temporal.valid()) {
       d.kind = Decision::Temporal;
       d.time = temporal.time;
+      std::copy_n(temporal.sides, 2, d.sides);
       return d;
     }
     if (count <= 1) return d;
-    size_t mid = split.valid() ? partitionObject(refs, split) : 0;
-    if (mid == 0 || mid == count) mid = partitionMedian(refs, info.centroids.largestAxis());
+    size_t mid = split.valid() ? partitionObject(refs, split, d.sides) : 0;
+    if (mid == 0 || mid == count) mid = partitionMedian(refs, info.centroids.largestAxis(), d.sides);
     d.kind = Decision::Object;
     d.mid = mid;
     return d;

@@ -69,7 +69,7 @@ TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const 
   split.time = time;
   float cost = 0.0f, primCost = 0.0f;
   for (int i = 0; i < 2; ++i) {
-    const RefSetInfo info = summarize(refs[i]);
+    const RefSetInfo& info = split.sides[i] = summarize(refs[i]);
     if (info.active == 0) continue;
     const float p = mbsahArea(info.bounds) * (halves[i].size() / range.size());
     cost += p * float(info.active);
@@ -94,18 +94,17 @@ void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, 
   for (int i = 0; i < 2; ++i) {
     std::vector<BuildRef>& out = *outs[i];
     out.resize(refs.size());
-    std::vector<uint8_t> keep(refs.size(), 0);
-    auto make = [&](size_t b, size_t e) {
-      for (size_t k = b; k != e; ++k) keep[k] = remakeRef(refs[k], halves[i], source, out[k]);
-    };
-    if (refs.size() < kParallelRefs)
-      make(0, refs.size());
-    else
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kGrain),
-                        [&](const tbb::blocked_range<size_t>& r) { make(r.begin(), r.end()); });
-    size_t n = 0;  // serial compaction keeps the order
-    for (size_t k = 0; k < refs.size(); ++k)
-      if (keep[k]) out[n++] = out[k];
+    size_t n = 0;
+    if (refs.size() < kParallelRefs) {
+      for (const BuildRef& r : refs) n += remakeRef(r, halves[i], source, out[n]);
+    } else {
+      std::vector<uint8_t> keep(refs.size(), 0);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t k = r.begin(); k != r.end(); ++k) keep[k] = remakeRef(refs[k], halves[i], source, out[k]);
+      });
+      for (size_t k = 0; k < refs.size(); ++k)  // serial compaction keeps the order
+        if (keep[k]) out[n++] = out[k];
+    }
     out.resize(n);
   }
 }

@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "bvh/binned_sah.h"
 #include "bvh/build_ref.h"
 
 namespace mbrt::detail {
@@ -38,6 +39,7 @@ struct TemporalSplit {
   float time = 0.0f;
   float cost = kInf;  // unnormalised, as ObjectSplit::cost
   float primCost = kInf;  // the same costed with reference counts
+  RefSetInfo sides[2];    // summaries of the halves' references (for their nodes)
   bool valid() const { return cost < kInf; }
 };
 

@@ -62,29 +62,21 @@ void SceneContext::addChildStats(AccelStats& stats) const {
   }
 }
 
-Box3f SceneContext::keyBox(PrimRef ref, uint32_t key) const {
+PrimKeys SceneContext::keys(PrimRef ref) const {
   const Geometry& g = *geometries_[ref.geomID];
   switch (g.type()) {
     case GeometryType::Triangles: {
       const Triangle& t = g.triangles()[ref.primID];
-      const VertexBuffer& vb = g.vertices(key);
-      Box3f b(vb[t.v0]);
-      b.extend(vb[t.v1]);
-      b.extend(vb[t.v2]);
-      return b;
+      return {&g, nullptr, {t.v0, t.v1, t.v2}, 0.0f};
     }
     case GeometryType::Segments: {
       const Segment& s = g.segments()[ref.primID];
-      const VertexBuffer& vb = g.vertices(key);
-      const float r = std::max(g.radii()[s.v0], g.radii()[s.v1]);
-      Box3f b(vb[s.v0]);
-      b.extend(vb[s.v1]);
-      return {b.lower - Vec3f(r), b.upper + Vec3f(r)};
+      return {&g, nullptr, {s.v0, s.v1, s.v1}, std::max(g.radii()[s.v0], g.radii()[s.v1])};
     }
     case GeometryType::Instance:
-      return instanceKeyBoxes_[ref.geomID][key];
+      break;
   }
-  return {};
+  return {&g, instanceKeyBoxes_[ref.geomID].data(), {0, 0, 0}, 0.0f};
 }
 
 Box3f SceneContext::boundsOver(TimeRange range) const {

@@ -20,6 +20,24 @@ struct PrimRef {
   uint32_t primID;
 };
 
+// The key boxes of one primitive: what keyBox gives, with the geometry and
+// the primitive's vertices looked up once (Fig. 4 bounds read many keys).
+struct PrimKeys {
+  const Geometry* geometry;
+  const Box3f* instance;  // instances: their key boxes; else null
+  uint32_t v[3];          // vertices (a segment repeats its second)
+  float radius;           // segments: the larger vertex radius; else 0
+
+  Box3f operator()(uint32_t key) const {
+    if (instance) return instance[key];
+    const VertexBuffer& vb = geometry->vertices(key);
+    Box3f b(vb[v[0]]);
+    b.extend(vb[v[1]]);
+    b.extend(vb[v[2]]);
+    return {b.lower - Vec3f(radius), b.upper + Vec3f(radius)};
+  }
+};
+
 class SceneContext {
  public:
   SceneContext(const Scene& scene, const BuildOptions& options, BuildBudget& budget);
@@ -40,7 +58,8 @@ class SceneContext {
   const Structure& child(uint32_t geomID) const { return *childOf_[geomID]; }
 
   // Bounds, see primitive_bounds.h.
-  Box3f keyBox(PrimRef ref, uint32_t key) const;
+  Box3f keyBox(PrimRef ref, uint32_t key) const { return keys(ref)(key); }
+  PrimKeys keys(PrimRef ref) const;
   // Union of the geometries alive in [range.lo, range.hi] over that range.
   Box3f boundsOver(TimeRange range) const;
   // Bytes of the structures of instanced scenes.

@@ -13,6 +13,8 @@ float slack(float a, float b) {
   return std::max(std::fabs(a), std::fabs(b)) * kRelativeSlack + 1e-30f;
 }
 
+Vec3f absVec(Vec3f v) { return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}; }
+
 }  // namespace
 
 Box3f widen(const Box3f& box) {
@@ -27,38 +29,47 @@ Box3f widen(const Box3f& box) {
 }
 
 LBounds widen(const LBounds& bounds) {
-  LBounds r = bounds;
-  for (int a = 0; a < 3; ++a) {
-    const float s = std::max(slack(bounds.b0.lower[a], bounds.b0.upper[a]),
-                             slack(bounds.b1.lower[a], bounds.b1.upper[a]));
-    r.b0.lower[a] -= s;
-    r.b1.lower[a] -= s;
-    r.b0.upper[a] += s;
-    r.b1.upper[a] += s;
-  }
-  return r;
+  // One slack per axis for both ends: that of the largest magnitude among
+  // the four corners (the slack grows with the magnitude), in three lanes.
+  const Vec3f m = max(max(absVec(bounds.b0.lower), absVec(bounds.b0.upper)),
+                      max(absVec(bounds.b1.lower), absVec(bounds.b1.upper)));
+  const Vec3f s = m * kRelativeSlack + Vec3f(1e-30f);
+  return {{bounds.b0.lower - s, bounds.b0.upper + s}, {bounds.b1.lower - s, bounds.b1.upper + s}};
 }
 
 Box3f boxAt(const SceneContext& ctx, PrimRef ref, float time) {
   const Geometry& g = ctx.geometry(ref.geomID);
-  if (g.numSteps() == 1) return ctx.keyBox(ref, 0);
+  const PrimKeys keys = ctx.keys(ref);
+  if (g.numSteps() == 1) return keys(0);
   const TimeRange r = g.timeRange();
   uint32_t s;
   float f;
   g.segmentAt(std::clamp(time, r.lo, r.hi), s, f);
-  return lerp(ctx.keyBox(ref, s), ctx.keyBox(ref, s + 1), f);
+  return lerp(keys(s), keys(s + 1), f);
 }
 
 LBounds linearBounds(const SceneContext& ctx, PrimRef ref, TimeRange range) {
   const Geometry& g = ctx.geometry(ref.geomID);
-  LBounds lb(boxAt(ctx, ref, range.lo), boxAt(ctx, ref, range.hi));
-  if (g.numSteps() > 1 && range.hi > range.lo) {
+  const PrimKeys keys = ctx.keys(ref);
+  if (g.numSteps() == 1) return widen(LBounds(keys(0)));
+  // The ends interpolate keys s0, s0 + 1 and s1, s1 + 1 (as boxAt); the keys
+  // inside the range lie among s0 .. s1 + 1. Each key box is made once.
+  const TimeRange r = g.timeRange();
+  uint32_t s0, s1;
+  float f0, f1;
+  g.segmentAt(std::clamp(range.lo, r.lo, r.hi), s0, f0);
+  g.segmentAt(std::clamp(range.hi, r.lo, r.hi), s1, f1);
+  const Box3f k00 = keys(s0), k01 = keys(s0 + 1);
+  const Box3f k10 = s1 == s0 ? k00 : (s1 == s0 + 1 ? k01 : keys(s1));
+  const Box3f k11 = s1 == s0 ? k01 : keys(s1 + 1);
+  LBounds lb(lerp(k00, k01, f0), lerp(k10, k11, f1));
+  if (range.hi > range.lo) {
     Vec3f pushLower(0.0f), pushUpper(0.0f);
-    for (uint32_t k = 0; k < g.numSteps(); ++k) {
+    for (uint32_t k = s0; k <= s1 + 1; ++k) {
       const float tk = g.stepTime(k);
       if (!(tk > range.lo && tk < range.hi)) continue;
       const Box3f line = lb.at((tk - range.lo) / range.size());
-      const Box3f key = ctx.keyBox(ref, k);
+      const Box3f key = k == s0 ? k00 : k == s0 + 1 ? k01 : k == s1 ? k10 : k == s1 + 1 ? k11 : keys(k);
       pushLower = min(pushLower, key.lower - line.lower);
       pushUpper = max(pushUpper, key.upper - line.upper);
     }
