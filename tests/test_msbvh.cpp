@@ -14,6 +14,7 @@
 #include "geometry/primitive_bounds.h"
 #include "msbvh/key_bounds.h"
 #include "msbvh/msbvh.h"
+#include "msbvh/sbvh_builder.h"
 #include "oracle.h"
 #include "test_util.h"
 
@@ -471,4 +472,43 @@ TEST(Msbvh, KeysAreKeptOnlyWhereTheMotionCurves) {
     EXPECT_EQ(rep.anyWrong, 0u) << "motion " << motion;
     EXPECT_GT(rep.hits, 300u);
   }
+}
+
+// Node filling: every SAH leaf is split by object splits down to single
+// references below it (`fill`), so the collapse can give free lanes single
+// references; the SAH leaves keep at most maxLeafSize references.
+TEST(Sbvh, SahLeavesAreSplitDownToSingleReferencesForNodeFilling) {
+  struct NoClip final : detail::RefClipper {
+    Box3f clip(detail::PrimRef, const Box3f& box) const override { return box; }
+  };
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<detail::SplitRef> refs;
+  for (uint32_t i = 0; i < 3000; ++i) {
+    const Vec3f c{u(rng), u(rng), u(rng)};
+    refs.push_back({Box3f(c - Vec3f(0.02f), c + Vec3f(0.02f)), Box3f(Vec3f(-kInf), Vec3f(kInf)), {0, i}});
+  }
+  detail::SbvhSettings settings;
+  settings.alpha = 1.0f;  // object splits only: NoClip is never asked
+  const auto root = detail::buildSbvh(refs, settings, NoClip());
+  size_t sahLeaves = 0, singles = 0;
+  std::function<size_t(const detail::SbvhNode&, bool)> visit = [&](const detail::SbvhNode& n, bool inFill) {
+    EXPECT_TRUE(n.fill || !inFill) << "below an SAH leaf every node is a fill node";
+    if (n.isLeaf()) {
+      EXPECT_EQ(n.refs.size(), 1u);
+      ++singles;
+      return n.refs.size();
+    }
+    EXPECT_TRUE(n.refs.empty());
+    const size_t below = visit(*n.child[0], n.fill) + visit(*n.child[1], n.fill);
+    if (n.fill && !inFill) {
+      ++sahLeaves;
+      EXPECT_LE(below, size_t(settings.maxLeafSize));
+    }
+    return below;
+  };
+  EXPECT_EQ(visit(*root, false), refs.size());
+  EXPECT_EQ(singles, refs.size());
+  EXPECT_GT(sahLeaves, 0u);
+  EXPECT_LT(sahLeaves, refs.size()) << "the SAH keeps some references together";
 }

@@ -1,6 +1,7 @@
 #include "msbvh/msbvh.h"
 
 #include <algorithm>
+#include <new>
 
 #include <tbb/parallel_for.h>
 
@@ -46,11 +47,56 @@ struct alignas(32) KeyPlanes {
 };
 
 template <int N>
-struct MsNode {
+struct alignas(32) MsNode {
   uint32_t child[N];  // inner: node index; leaf: first reference; kEmptyChild: empty lane
   uint8_t count[N];   // 0: inner (or empty); > 0: leaf size
   bool isEmpty(int lane) const { return child[lane] == kEmptyChild; }
   bool isLeaf(int lane) const { return count[lane] != 0; }
+};
+
+// Nodes in one array of blocks: node i's header, then its n+1 keys. A node
+// visit reads one contiguous run of cache lines (header, keys k and k+1)
+// instead of two arrays, as a bvh-interp node is one block.
+template <int N>
+class NodeBlocks {
+ public:
+  explicit NodeBlocks(uint32_t numKeys)
+      : numKeys_(numKeys), stride_((sizeof(MsNode<N>) + numKeys * sizeof(KeyPlanes<N>)) / sizeof(Chunk)) {}
+
+  size_t size() const { return chunks_.size() / stride_; }
+  bool empty() const { return chunks_.empty(); }
+  size_t bytes() const { return chunks_.size() * sizeof(Chunk); }
+  const void* data() const { return chunks_.data(); }
+
+  uint32_t add() {
+    const uint32_t index = uint32_t(size());
+    chunks_.resize(chunks_.size() + stride_);
+    ::new (at(index)) MsNode<N>();
+    for (uint32_t k = 0; k < numKeys_; ++k) ::new (&key(index, k)) KeyPlanes<N>();
+    return index;
+  }
+  MsNode<N>& node(uint32_t i) { return *std::launder(reinterpret_cast<MsNode<N>*>(at(i))); }
+  const MsNode<N>& node(uint32_t i) const { return *std::launder(reinterpret_cast<const MsNode<N>*>(at(i))); }
+  KeyPlanes<N>& key(uint32_t i, uint32_t k) { return keysOf(at(i))[k]; }
+  const KeyPlanes<N>& key(uint32_t i, uint32_t k) const { return keysOf(at(i))[k]; }
+
+ private:
+  struct alignas(32) Chunk {
+    unsigned char bytes[32];
+  };
+  static_assert(sizeof(MsNode<N>) % sizeof(Chunk) == 0 && sizeof(KeyPlanes<N>) % sizeof(Chunk) == 0);
+  Chunk* at(uint32_t i) { return chunks_.data() + size_t(i) * stride_; }
+  const Chunk* at(uint32_t i) const { return chunks_.data() + size_t(i) * stride_; }
+  static KeyPlanes<N>* keysOf(Chunk* c) {
+    return std::launder(reinterpret_cast<KeyPlanes<N>*>(c + sizeof(MsNode<N>) / sizeof(Chunk)));
+  }
+  static const KeyPlanes<N>* keysOf(const Chunk* c) {
+    return std::launder(reinterpret_cast<const KeyPlanes<N>*>(c + sizeof(MsNode<N>) / sizeof(Chunk)));
+  }
+
+  uint32_t numKeys_;
+  size_t stride_;  // chunks per node
+  std::vector<Chunk> chunks_;
 };
 
 // The node ray (bvh/traverse.h) whose box time is the fraction between the
@@ -107,7 +153,8 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
       : ctx_(ctx),
         stepSegments_(chooseKeySegments(ctx)),
         n_(fitKeySegments(ctx, stepSegments_)),
-        bounder_(ctx, n_) {
+        bounder_(ctx, n_),
+        nodes_(n_ + 1) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
     BuildBudget& budget = ctx.budget();
@@ -154,12 +201,12 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
       sums.maxDepth = depth_ + 1;
       std::vector<Box3f> root(n_ + 1);
       for (int l = 0; l < N; ++l)
-        if (!nodes_[0].isEmpty(l))
+        if (!nodes_.node(0).isEmpty(l))
           for (uint32_t k = 0; k <= n_; ++k) root[k].extend(keys(0, k).get(l));
       sums.inner += meanArea([&](uint32_t k) { return root[k]; });
       for (uint32_t i = 0; i < nodes_.size(); ++i)
         for (int l = 0; l < N; ++l) {
-          const MsNode<N>& node = nodes_[i];
+          const MsNode<N>& node = nodes_.node(i);
           if (node.isEmpty(l)) continue;
           const double area = meanArea([&](uint32_t k) { return keys(i, k).get(l); });
           if (node.isLeaf(l)) {
@@ -200,8 +247,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
       out.resize(a + n);
       if (n) std::memcpy(out.data() + a, p, n);
     };
-    add(nodes_.data(), nodes_.size() * sizeof(MsNode<N>));
-    add(keys_.data(), keys_.size() * sizeof(KeyPlanes<N>));
+    add(nodes_.data(), nodes_.bytes());
     add(prims_.data(), prims_.size() * sizeof(PrimRef));
     add(regions_.data(), regions_.size() * sizeof(Box3f));
     return out;
@@ -209,11 +255,10 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
 
  private:
   size_t byteCount() const {
-    return nodes_.size() * sizeof(MsNode<N>) + keys_.size() * sizeof(KeyPlanes<N>) +
-           prims_.size() * sizeof(PrimRef) + regions_.size() * sizeof(Box3f);
+    return nodes_.bytes() + prims_.size() * sizeof(PrimRef) + regions_.size() * sizeof(Box3f);
   }
-  KeyPlanes<N>& keys(uint32_t node, uint32_t k) { return keys_[size_t(node) * (n_ + 1) + k]; }
-  const KeyPlanes<N>& keys(uint32_t node, uint32_t k) const { return keys_[size_t(node) * (n_ + 1) + k]; }
+  KeyPlanes<N>& keys(uint32_t node, uint32_t k) { return nodes_.key(node, k); }
+  const KeyPlanes<N>& keys(uint32_t node, uint32_t k) const { return nodes_.key(node, k); }
 
   template <class BoxOfKey>
   double meanArea(const BoxOfKey& boxOfKey) const {
@@ -227,45 +272,59 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
     return sum / 8.0;
   }
 
+  // Opens the lane with the largest area among those `pick` accepts (it has
+  // children); false when there is none.
+  template <class Pick>
+  static bool openLargest(std::vector<const SbvhNode*>& lanes, const Pick& pick) {
+    int best = -1;
+    float area = -1.0f;
+    for (int i = 0; i < int(lanes.size()); ++i)
+      if (pick(*lanes[size_t(i)]) && lanes[size_t(i)]->box.halfArea() > area) {
+        best = i;
+        area = lanes[size_t(i)]->box.halfArea();
+      }
+    if (best < 0) return false;
+    const SbvhNode* open = lanes[size_t(best)];
+    lanes[size_t(best)] = open->child[0].get();
+    lanes.insert(lanes.begin() + best + 1, open->child[1].get());
+    return true;
+  }
+
+  static void gatherRefs(const SbvhNode& bin, std::vector<const SplitRef*>& out) {
+    for (const SplitRef& r : bin.refs) out.push_back(&r);
+    if (!bin.isLeaf())
+      for (const auto& c : bin.child) gatherRefs(*c, out);
+  }
+
   // Binary SBVH -> N-wide nodes in depth-first order: a node starts with the
   // two children of a binary node and opens its largest inner child until it
-  // has N (STBVH §3.3's collapse).
+  // has N (STBVH §3.3's collapse); lanes still free then split its largest
+  // leaves (node filling, sbvh_builder.h).
   uint32_t emit(const SbvhNode& bin, uint32_t depth) {
     depth_ = std::max(depth_, depth);
     std::vector<const SbvhNode*> lanes;
-    if (bin.isLeaf()) {
+    if (bin.isLeaf() || bin.fill) {
       lanes.push_back(&bin);
     } else {
       lanes = {bin.child[0].get(), bin.child[1].get()};
-      while (int(lanes.size()) < N) {
-        int best = -1;
-        float area = -1.0f;
-        for (int i = 0; i < int(lanes.size()); ++i)
-          if (!lanes[size_t(i)]->isLeaf() && lanes[size_t(i)]->box.halfArea() > area) {
-            best = i;
-            area = lanes[size_t(i)]->box.halfArea();
-          }
-        if (best < 0) break;
-        const SbvhNode* open = lanes[size_t(best)];
-        lanes[size_t(best)] = open->child[0].get();
-        lanes.insert(lanes.begin() + best + 1, open->child[1].get());
+      while (int(lanes.size()) < N && openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && !c.fill; })) {
       }
     }
-    const uint32_t index = uint32_t(nodes_.size());
-    nodes_.emplace_back();
-    keys_.resize(keys_.size() + n_ + 1);
+    while (int(lanes.size()) < N && openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && c.fill; })) {
+    }
+    const uint32_t index = nodes_.add();
     for (int l = 0; l < N; ++l) {
-      nodes_[index].child[l] = kEmptyChild;
-      nodes_[index].count[l] = 0;
+      nodes_.node(index).child[l] = kEmptyChild;
+      nodes_.node(index).count[l] = 0;
     }
     for (int l = 0; l < int(lanes.size()); ++l) {
       const SbvhNode& c = *lanes[size_t(l)];
-      if (c.isLeaf()) {
-        nodes_[index].child[l] = uint32_t(prims_.size());
-        nodes_[index].count[l] = uint8_t(c.refs.size());
-        // Sorted by geometry: the leaf test takes one run of a geometry at a time.
+      if (c.isLeaf() || c.fill) {
         std::vector<const SplitRef*> order;
-        for (const SplitRef& r : c.refs) order.push_back(&r);
+        gatherRefs(c, order);
+        nodes_.node(index).child[l] = uint32_t(prims_.size());
+        nodes_.node(index).count[l] = uint8_t(order.size());
+        // Sorted by geometry: the leaf test takes one run of a geometry at a time.
         std::stable_sort(order.begin(), order.end(),
                          [](const SplitRef* a, const SplitRef* b) { return a->prim.geomID < b->prim.geomID; });
         for (const SplitRef* r : order) {
@@ -274,7 +333,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
         }
       } else {
         const uint32_t child = emit(c, depth + 1);
-        nodes_[index].child[l] = child;
+        nodes_.node(index).child[l] = child;
       }
     }
     stackSize_ = std::max(stackSize_, depth_ * uint32_t(N) + 1);
@@ -284,7 +343,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   void computeLeafKeys() {
     tbb::parallel_for(size_t(0), nodes_.size(), [&](size_t i) {
       std::vector<Box3f> lane(n_ + 1), piece(n_ + 1);
-      const MsNode<N>& node = nodes_[i];
+      const MsNode<N>& node = nodes_.node(uint32_t(i));
       for (int l = 0; l < N; ++l) {
         if (node.isEmpty(l) || !node.isLeaf(l)) continue;
         std::fill(lane.begin(), lane.end(), Box3f());
@@ -302,7 +361,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   // after their parents in depth-first order).
   void propagate() {
     for (size_t i = nodes_.size(); i-- > 0;) {
-      const MsNode<N>& node = nodes_[i];
+      const MsNode<N>& node = nodes_.node(uint32_t(i));
       for (int l = 0; l < N; ++l) {
         if (node.isEmpty(l)) {
           for (uint32_t k = 0; k <= n_; ++k) keys(uint32_t(i), k).set(l, Box3f());
@@ -321,7 +380,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
 
   std::pair<uint32_t, uint32_t> walk(uint32_t index, const std::function<void(const LaneView&)>& fn) const {
     uint32_t first = ~0u, end = 0;
-    const MsNode<N>& node = nodes_[index];
+    const MsNode<N>& node = nodes_.node(index);
     for (int l = 0; l < N; ++l) {
       if (node.isEmpty(l)) continue;
       std::pair<uint32_t, uint32_t> r{node.child[l], node.child[l] + node.count[l]};
@@ -349,12 +408,10 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   bool traverse(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     if (nodes_.empty()) return false;
     const KeyRay<packWidth<N>()> r(ray, n_);
-    const size_t stride = n_ + 1;
-    const KeyPlanes<N>* keyBase = keys_.data() + r.key;
     return wideTraverse<AnyHit, Count, N>(
-        stackSize_, ray, counters, [&](uint32_t i) -> const MsNode<N>& { return nodes_[i]; },
+        stackSize_, ray, counters, [&](uint32_t i) -> const MsNode<N>& { return nodes_.node(i); },
         [&](const MsNode<N>&, uint32_t i, float* dist) {
-          const KeyPlanes<N>* k = keyBase + size_t(i) * stride;
+          const KeyPlanes<N>* k = &nodes_.key(i, r.key);
           return intersectKeys<packWidth<N>()>(k[0], k[1], r, ray.tfar, dist);
         },
         [&](uint32_t first, uint32_t count) {
@@ -368,8 +425,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   uint32_t stepSegments_;  // keys on every step (chooseKeySegments)
   uint32_t n_;             // the keys kept (fitKeySegments)
   KeyBounder bounder_;
-  std::vector<MsNode<N>> nodes_;
-  std::vector<KeyPlanes<N>> keys_;  // (n_ + 1) per node
+  NodeBlocks<N> nodes_;  // per node: its header and (n_ + 1) keys
   std::vector<PrimRef> prims_;
   std::vector<Box3f> regions_;  // per reference: its spatial-split region (for refits)
   uint32_t depth_ = 0;

@@ -111,10 +111,7 @@ class Builder {
     const float best = std::min(obj.cost, sp.cost);
     const float leafCost = area * float(n);
     const float splitCost = s_.traversalCost * area + best;
-    if (n <= size_t(s_.maxLeafSize) && !(splitCost < leafCost)) {
-      node->refs = std::move(refs);
-      return node;
-    }
+    if (n <= size_t(s_.maxLeafSize) && !(splitCost < leafCost)) return fillLeaf(std::move(node), std::move(refs));
     std::vector<SplitRef> left, right;
     size_t added = 0;
     if (sp.valid() && sp.cost < obj.cost) {
@@ -125,21 +122,7 @@ class Builder {
         added = 0;
       }
     }
-    if (left.empty() && right.empty()) {
-      size_t mid = 0;
-      if (obj.valid()) {
-        auto it = std::partition(refs.begin(), refs.end(), [&](const SplitRef& r) { return obj.binOf(r) < obj.bin; });
-        mid = size_t(it - refs.begin());
-      }
-      if (mid == 0 || mid == n) {
-        const int axis = centroids.largestAxis();
-        mid = n / 2;
-        std::nth_element(refs.begin(), refs.begin() + std::ptrdiff_t(mid), refs.end(),
-                         [axis](const SplitRef& a, const SplitRef& b) { return refLess(a, b, axis); });
-      }
-      left.assign(refs.begin(), refs.begin() + std::ptrdiff_t(mid));
-      right.assign(refs.begin() + std::ptrdiff_t(mid), refs.end());
-    }
+    if (left.empty() && right.empty()) splitObject(refs, obj, centroids, left, right);
     refs.clear();
     refs.shrink_to_fit();
     const size_t rest = budget - std::min(budget, added);
@@ -156,6 +139,47 @@ class Builder {
   }
 
  private:
+  // The object split `obj`, or the median of the largest centroid axis
+  // where it is invalid or puts everything on one side.
+  static void splitObject(std::vector<SplitRef>& refs, const ObjectSplitResult& obj, const Box3f& centroids,
+                          std::vector<SplitRef>& left, std::vector<SplitRef>& right) {
+    const size_t n = refs.size();
+    size_t mid = 0;
+    if (obj.valid()) {
+      auto it = std::partition(refs.begin(), refs.end(), [&](const SplitRef& r) { return obj.binOf(r) < obj.bin; });
+      mid = size_t(it - refs.begin());
+    }
+    if (mid == 0 || mid == n) {
+      const int axis = centroids.largestAxis();
+      mid = n / 2;
+      std::nth_element(refs.begin(), refs.begin() + std::ptrdiff_t(mid), refs.end(),
+                       [axis](const SplitRef& a, const SplitRef& b) { return refLess(a, b, axis); });
+    }
+    left.assign(refs.begin(), refs.begin() + std::ptrdiff_t(mid));
+    right.assign(refs.begin() + std::ptrdiff_t(mid), refs.end());
+  }
+
+  // An SAH leaf, split by object splits down to single references for the
+  // collapse's node filling (sbvh_builder.h).
+  std::unique_ptr<SbvhNode> fillLeaf(std::unique_ptr<SbvhNode> node, std::vector<SplitRef> refs) {
+    node->fill = true;
+    if (refs.size() <= 1) {
+      node->refs = std::move(refs);
+      return node;
+    }
+    Box3f centroids;
+    for (const SplitRef& r : refs) centroids.extend(r.box.center());
+    std::vector<SplitRef> left, right;
+    splitObject(refs, findObject(refs, centroids, s_.objectBins), centroids, left, right);
+    for (int i = 0; i < 2; ++i) {
+      std::vector<SplitRef>& side = i == 0 ? left : right;
+      auto child = std::make_unique<SbvhNode>();
+      for (const SplitRef& r : side) child->box.extend(r.box);
+      node->child[i] = fillLeaf(std::move(child), std::move(side));
+    }
+    return node;
+  }
+
   const SbvhSettings& s_;
   const RefClipper& clipper_;
   float rootArea_;
