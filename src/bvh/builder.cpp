@@ -1,5 +1,7 @@
 #include "bvh/builder.h"
 
+#include <algorithm>
+
 #include <tbb/parallel_invoke.h>
 
 #include "bvh/binned_sah.h"
@@ -23,6 +25,7 @@ struct Decision {
   enum Kind { Leaf, Object, Temporal } kind = Leaf;
   size_t mid = 0;     // Object: size of the left side (references reordered)
   float time = 0.0f;  // Temporal: split time
+  ObjectSplit split;  // Leaf: the best object split, the soft subtree's first
   std::vector<BuildRef> left, right;  // Temporal: the halves' references
   RefSetInfo sides[2];                // Object, Temporal: the children's summaries
 };
@@ -35,21 +38,13 @@ class Driver {
   // `known` when the parent's split did it); returns its node id.
   uint32_t build(std::span<BuildRef> refs, TimeRange range, int depth, const RefSetInfo* known = nullptr) {
     const RefSetInfo info = known ? *known : summarize(refs);
-    BinaryNode node;
-    node.bounds = info.bounds;
-    node.range = range;
-    const float area = mbsahArea(info.bounds);
-    node.area = area * range.size();
-
-    Decision d = chooseSplit(refs, info, range, depth, area);
+    BinaryNode node = makeNode(info, range);
+    Decision d = chooseSplit(refs, info, range, depth, mbsahArea(info.bounds));
     if (d.kind == Decision::Leaf) {
-      auto it = tree_.prims.grow_by(refs.size());
+      const auto it = tree_.prims.grow_by(refs.size());
       const size_t first = size_t(it - tree_.prims.begin());
       chargeBlocks<PrimRef>(*tree_.charge, first, refs.size(), "the temporary binary BVH");
-      for (const BuildRef& r : refs) *it++ = r.prim;
-      node.begin = uint32_t(first);
-      node.count = uint32_t(refs.size());
-      return store(node);
+      return buildSoft(refs, info, d.split, range, depth, first);
     }
     if (d.kind == Decision::Object) {
       const std::span<BuildRef> l = refs.first(d.mid), r = refs.subspan(d.mid);
@@ -71,6 +66,53 @@ class Driver {
   }
 
  private:
+  static BinaryNode makeNode(const RefSetInfo& info, TimeRange range) {
+    BinaryNode node;
+    node.bounds = info.bounds;
+    node.range = range;
+    node.area = mbsahArea(info.bounds) * range.size();
+    return node;
+  }
+
+  // The subtree of a leaf decision, its references at prims [first, first +
+  // size): object splits only (no temporal splits, no new references), down
+  // to single references; inner nodes are soft (builder.h). Small: built by
+  // the calling task.
+  uint32_t buildSoft(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split, TimeRange range,
+                     int depth, size_t first) {
+    BinaryNode node = makeNode(info, range);
+    node.begin = uint32_t(first);
+    node.count = uint32_t(refs.size());
+    if (refs.size() == 1) {
+      tree_.prims[first] = refs[0].prim;
+      return store(node);
+    }
+    RefSetInfo sides[2];
+    const size_t mid = partition(refs, info, split, sides);
+    node.soft = true;
+    node.child[0] = softChild(refs.first(mid), sides[0], range, depth + 1, first);
+    node.child[1] = softChild(refs.subspan(mid), sides[1], range, depth + 1, first + mid);
+    return store(node);
+  }
+
+  uint32_t softChild(std::span<BuildRef> refs, const RefSetInfo& info, TimeRange range, int depth, size_t first) {
+    return buildSoft(refs, info, objectSplit(refs, info, range, depth), range, depth, first);
+  }
+
+  ObjectSplit objectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, TimeRange range, int depth) const {
+    if (depth >= s_.maxBinnedDepth || refs.size() <= 1) return ObjectSplit();
+    return findObjectSplit(refs, info, s_.numBins, range, s_.leafBlock);
+  }
+
+  // The object split, or the median where binning cannot separate the
+  // references; `sides` gets both children's summaries.
+  static size_t partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,
+                          RefSetInfo sides[2]) {
+    size_t mid = split.valid() ? partitionObject(refs, split, sides) : 0;
+    if (mid == 0 || mid == refs.size()) mid = partitionMedian(refs, info.centroids.largestAxis(), sides);
+    return mid;
+  }
+
   template <class L, class R>
   void children(BinaryNode& node, size_t count, const L& left, const R& right) {
     if (count > s_.parallelThreshold) {
@@ -93,8 +135,7 @@ class Driver {
     Decision d;
     const size_t count = refs.size();
     if (count <= 1 && !s_.temporal) return d;
-    ObjectSplit split;
-    if (depth < s_.maxBinnedDepth && count > 1) split = findObjectSplit(refs, info, s_.numBins, range, s_.leafBlock);
+    const ObjectSplit split = objectSplit(refs, info, range, depth);
     const float leafCost = area * float(info.active);
     float best = split.cost;  // unnormalised, kInf when invalid
     // Temporal split: tried when the object split is poor (θ), chosen when
@@ -120,7 +161,11 @@ class Driver {
       splitCost = s_.traversalCost * area + (temporal.valid() ? temporal.primCost : split.primCost);
       leafTest = area * leafBlocks(count, s_.leafBlock);
     }
-    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) return Decision();
+    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) {
+      Decision leaf;
+      leaf.split = split;
+      return leaf;
+    }
     if (temporal.valid()) {
       d.kind = Decision::Temporal;
       d.time = temporal.time;
@@ -128,10 +173,8 @@ class Driver {
       return d;
     }
     if (count <= 1) return d;
-    size_t mid = split.valid() ? partitionObject(refs, split, d.sides) : 0;
-    if (mid == 0 || mid == count) mid = partitionMedian(refs, info.centroids.largestAxis(), d.sides);
     d.kind = Decision::Object;
-    d.mid = mid;
+    d.mid = partition(refs, info, split, d.sides);
     return d;
   }
 

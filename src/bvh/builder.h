@@ -6,6 +6,12 @@
 // collapse.h turns into N-wide nodes. Without a TemporalSource this is the
 // builder of bvh-interp, bvh-segments and frozen.
 //
+// Below a leaf decision the driver keeps splitting by objects, down to
+// single references, and marks those nodes soft: collapse.h opens them only
+// into spare lanes of a wide node and otherwise emits a soft node as one leaf
+// (Embree's GeneralBVHBuilder fills a node by splitting its largest child
+// whatever the SAH says; the SAH leaf decision stays with whole nodes).
+//
 // Extension point: `chooseSplit` in builder.cpp is where spatial splits
 // (MSBVH/SBVH) would join; like temporal splits they produce two new
 // reference sets, which the driver already handles.
@@ -49,9 +55,10 @@ struct BinaryNode {
   LBounds bounds;         // linear bounds local to `range` (as BuildRef::bounds)
   TimeRange range;        // time range the node serves (tree parameter)
   float area = 0.0f;      // MBSAH area (half-area at the centre time) x range length
-  uint32_t begin = 0;     // leaf: primitives [begin, begin + count) of BinaryTree::prims
+  uint32_t begin = 0;     // leaf or soft: primitives [begin, begin + count) of BinaryTree::prims
   uint32_t count = 0;
   uint32_t child[2] = {kNone, kNone};
+  bool soft = false;      // below a leaf decision: a leaf unless opened to fill lanes
   bool isLeaf() const { return child[0] == kNone; }
 };
 

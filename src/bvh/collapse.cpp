@@ -9,22 +9,19 @@
 namespace mbrt::detail {
 namespace {
 
-// The binary nodes that become the lanes of the wide node made for `id`.
+// A lane that is not opened further: a leaf, or a soft node as one leaf
+// holding its whole subtree's primitives.
+inline bool leafLane(const BinaryNode& c) { return c.isLeaf() || c.soft; }
+
+// Opens the lane with the largest area among the inner nodes that are
+// `soft` (or not) until the node has N lanes; returns the lane count.
 template <int N>
-int openChildren(const BinaryTree& tree, uint32_t id, uint32_t (&lanes)[N]) {
-  const BinaryNode& node = tree.nodes[id];
-  if (node.isLeaf()) {  // only a leaf root gets here
-    lanes[0] = id;
-    return 1;
-  }
-  int n = 2;
-  lanes[0] = node.child[0];
-  lanes[1] = node.child[1];
+int openLargest(const BinaryTree& tree, uint32_t (&lanes)[N], int n, bool soft) {
   while (n < N) {
     int best = -1;
     for (int i = 0; i < n; ++i) {
       const BinaryNode& c = tree.nodes[lanes[i]];
-      if (!c.isLeaf() && (best < 0 || c.area > tree.nodes[lanes[best]].area)) best = i;
+      if (!c.isLeaf() && c.soft == soft && (best < 0 || c.area > tree.nodes[lanes[best]].area)) best = i;
     }
     if (best < 0) break;
     const BinaryNode& open = tree.nodes[lanes[best]];
@@ -34,6 +31,23 @@ int openChildren(const BinaryTree& tree, uint32_t id, uint32_t (&lanes)[N]) {
     ++n;
   }
   return n;
+}
+
+// The binary nodes that become the lanes of the wide node made for `id`:
+// its children, then the largest inner children opened (each saves a wide
+// node), then, in the lanes still free, the largest soft children (smaller
+// leaves at no node cost: Embree fills a node by splitting its largest
+// child whatever the SAH says, GeneralBVHBuilder::recurse).
+template <int N>
+int openChildren(const BinaryTree& tree, uint32_t id, uint32_t (&lanes)[N]) {
+  const BinaryNode& node = tree.nodes[id];
+  if (node.isLeaf()) {  // only a leaf root gets here
+    lanes[0] = id;
+    return 1;
+  }
+  lanes[0] = node.child[0];
+  lanes[1] = node.child[1];
+  return openLargest<N>(tree, lanes, openLargest<N>(tree, lanes, 2, false), true);
 }
 
 struct Counts {
@@ -50,7 +64,7 @@ void countNodes(const BinaryTree& tree, uint32_t id, Counts& c) {
   for (int i = 0; i < n; ++i) {
     const BinaryNode& child = tree.nodes[lanes[i]];
     timed |= !(child.range == range);
-    if (!child.isLeaf()) countNodes<N>(tree, lanes[i], c);
+    if (!leafLane(child)) countNodes<N>(tree, lanes[i], c);
   }
   c.timed += timed;
 }
@@ -105,7 +119,7 @@ class Emitter {
     for (int i = 0; i < n; ++i) {
       const BinaryNode& c = tree_.nodes[lanes[i]];
       out_.nodes[index].setBounds(i, globalBounds(c));
-      if (c.isLeaf()) {
+      if (leafLane(c)) {
         out_.nodes[index].child[i] = uint32_t(out_.prims.size());
         out_.nodes[index].count[i] = uint8_t(c.count);
         // Sorted by geometry: the leaf test handles one geometry's run at a
