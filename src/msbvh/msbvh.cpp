@@ -272,22 +272,23 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
     return sum / 8.0;
   }
 
-  // Opens the lane with the largest area among those `pick` accepts (it has
-  // children); false when there is none.
+  // While there are fewer than N lanes, opens the lane with the largest area
+  // among those `pick` accepts (nodes with children).
   template <class Pick>
-  static bool openLargest(std::vector<const SbvhNode*>& lanes, const Pick& pick) {
-    int best = -1;
-    float area = -1.0f;
-    for (int i = 0; i < int(lanes.size()); ++i)
-      if (pick(*lanes[size_t(i)]) && lanes[size_t(i)]->box.halfArea() > area) {
-        best = i;
-        area = lanes[size_t(i)]->box.halfArea();
-      }
-    if (best < 0) return false;
-    const SbvhNode* open = lanes[size_t(best)];
-    lanes[size_t(best)] = open->child[0].get();
-    lanes.insert(lanes.begin() + best + 1, open->child[1].get());
-    return true;
+  static void openLargest(std::vector<const SbvhNode*>& lanes, const Pick& pick) {
+    while (int(lanes.size()) < N) {
+      int best = -1;
+      float area = -1.0f;
+      for (int i = 0; i < int(lanes.size()); ++i)
+        if (pick(*lanes[size_t(i)]) && lanes[size_t(i)]->box.halfArea() > area) {
+          best = i;
+          area = lanes[size_t(i)]->box.halfArea();
+        }
+      if (best < 0) return;
+      const SbvhNode* open = lanes[size_t(best)];
+      lanes[size_t(best)] = open->child[0].get();
+      lanes.insert(lanes.begin() + best + 1, open->child[1].get());
+    }
   }
 
   static void gatherRefs(const SbvhNode& bin, std::vector<const SplitRef*>& out) {
@@ -307,11 +308,9 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
       lanes.push_back(&bin);
     } else {
       lanes = {bin.child[0].get(), bin.child[1].get()};
-      while (int(lanes.size()) < N && openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && !c.fill; })) {
-      }
+      openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && !c.fill; });
     }
-    while (int(lanes.size()) < N && openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && c.fill; })) {
-    }
+    openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && c.fill; });
     const uint32_t index = nodes_.add();
     for (int l = 0; l < N; ++l) {
       nodes_.node(index).child[l] = kEmptyChild;

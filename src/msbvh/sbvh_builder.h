@@ -26,10 +26,11 @@ struct SbvhSettings {
   int maxBinnedDepth = 48;     // deeper: median splits only
 };
 
-// A node the SAH made a leaf (`sahLeaf`) is still split down to single
-// references, by object splits, below it (`fill`): the N-wide collapse opens
-// these only for lanes no inner node needs (Embree's node filling), so a
-// half-full node's leaves get tested one lane each at no extra node.
+// A node the SAH made a leaf is still split down to single references, by
+// object splits, and it and the nodes below it are marked `fill`: the N-wide
+// collapse opens these only for lanes no inner node needs (Embree's node
+// filling), so a half-full node's leaves get tested one lane each at no
+// extra node.
 struct SbvhNode {
   Box3f box;                         // union of the references' boxes
   std::unique_ptr<SbvhNode> child[2];
