@@ -229,7 +229,7 @@ TEST(Stbvh, BeatsInterpOnRotation) {
   EXPECT_GT(st.peakBuildBytes, st.bytes);
 }
 
-// Node filling (collapse.h): below the SAH's leaf decisions the spare lanes
+// Node filling (builder.h): below the SAH's leaf decisions the spare lanes
 // of a wide node get the split leaves, so 8-wide nodes are nearly full where
 // they were half empty (hairball: 4.4 lanes per inner node for stbvh, 3.6
 // for bvh-interp before filling).

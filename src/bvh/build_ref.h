@@ -14,7 +14,7 @@ namespace mbrt::detail {
 struct BuildRef {
   // Local to `range`: b0 is the box at range.lo, b1 at range.hi. Merging
   // local bounds of one range is tight; merging bounds extrapolated to
-  // t = 0 and 1 is not (collapse.cpp makes the nodes' global form).
+  // t = 0 and 1 is not (builder.cpp makes the nodes' global form).
   LBounds bounds;
   PrimRef prim{0, 0};
   uint32_t active = 1;   // primitive segments alive in `range` (MBSAH |X|_s)

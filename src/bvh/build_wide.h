@@ -1,12 +1,11 @@
-// Builds one WideBvh from primitives: references (charged as scratch), the
-// binary tree (builder.h), the N-wide collapse (collapse.h).
+// Builds one WideBvh from primitives: references (charged as scratch), then
+// the wide tree over them (builder.h).
 #pragma once
 
 #include <span>
 
 #include "bvh/build_ref.h"
 #include "bvh/builder.h"
-#include "bvh/collapse.h"
 
 namespace mbrt::detail {
 
@@ -19,8 +18,8 @@ inline BuildSettings settingsFor(const BuildOptions& o, TimeRange range) {
   return s;
 }
 
-// stbvh's C_T relative to C_I: the collapse fills spare lanes by splitting
-// leaves (collapse.h), so a leaf costs less than its references say; 1.5
+// stbvh's C_T relative to C_I: the builder fills spare lanes by splitting
+// leaves (builder.h), so a leaf costs less than its references say; 1.5
 // trades the nodes this saves (memory ≤ Embree's on every suite scene) for
 // a few more intersections (docs/stbvh.md, "Filled nodes").
 inline constexpr float kFilledTraversalScale = 1.5f;
@@ -39,9 +38,7 @@ void buildWideBvh(const SceneContext& ctx, std::span<const PrimRef> prims, const
     settings.leafBlock = 2;
     settings.traversalCost *= kFilledTraversalScale;
   }
-  BinaryTree tree;
-  buildBinaryTree(refs, settings, budget, tree);
-  collapse(tree, out, budget);
+  buildWideTree(refs, settings, budget, out);
 }
 
 }  // namespace mbrt::detail

@@ -2,15 +2,16 @@
 // at each node it asks the split strategies for a split (object splits from
 // binned_sah.h; temporal splits from temporal_split.h when the settings give
 // a TemporalSource), compares the cheapest with the leaf cost and recurses,
-// in parallel over subtrees. The result is a temporary binary tree that
-// collapse.h turns into N-wide nodes. Without a TemporalSource this is the
-// builder of bvh-interp, bvh-segments and frozen.
+// in parallel over subtrees. Without a TemporalSource this is the builder of
+// bvh-interp, bvh-segments and frozen.
 //
-// Below a leaf decision the driver keeps splitting by objects, down to
-// single references, and marks those nodes soft: collapse.h opens them only
-// into spare lanes of a wide node and otherwise emits a soft node as one leaf
-// (Embree's GeneralBVHBuilder fills a node by splitting its largest child
-// whatever the SAH says; the SAH leaf decision stays with whole nodes).
+// Wide nodes are made as the build goes (§3.3, last paragraph): a node
+// starts with the two children of its split and repeatedly splits the inner
+// child with the largest area until it has N. Lanes still free then split
+// the largest leaf by objects (Embree's GeneralBVHBuilder fills a node by
+// splitting its largest child whatever the SAH says; the SAH's leaf decision
+// stays with whole nodes). Such splits are made only where a lane takes
+// them, so a leaf costs no nodes and no binning below it.
 //
 // Extension point: `chooseSplit` in builder.cpp is where spatial splits
 // (MSBVH/SBVH) would join; like temporal splits they produce two new
@@ -18,13 +19,10 @@
 #pragma once
 
 #include <atomic>
-#include <memory>
 #include <span>
-#include <vector>
-
-#include <tbb/concurrent_vector.h>
 
 #include "bvh/build_ref.h"
+#include "bvh/wide_bvh.h"
 #include "core/build_budget.h"
 
 namespace mbrt::detail {
@@ -50,23 +48,13 @@ struct BuildSettings {
   int leafBlock = 1;
 };
 
-struct BinaryNode {
-  static constexpr uint32_t kNone = 0xFFFFFFFFu;
-  LBounds bounds;         // linear bounds local to `range` (as BuildRef::bounds)
-  TimeRange range;        // time range the node serves (tree parameter)
-  float area = 0.0f;      // MBSAH area (half-area at the centre time) x range length
-  uint32_t begin = 0;     // leaf or soft: primitives [begin, begin + count) of BinaryTree::prims
-  uint32_t count = 0;
-  uint32_t child[2] = {kNone, kNone};
-  bool soft = false;      // below a leaf decision: a leaf unless opened to fill lanes
-  bool isLeaf() const { return child[0] == kNone; }
-};
-
-// Memory charged by a tree in blocks as it grows; released with the tree.
+// Memory charged by a growing structure in blocks; released with it.
 class GrowingCharge {
  public:
   explicit GrowingCharge(BuildBudget& budget) : budget_(budget) {}
   ~GrowingCharge() { budget_.release(bytes_.load()); }
+  GrowingCharge(const GrowingCharge&) = delete;
+  GrowingCharge& operator=(const GrowingCharge&) = delete;
   void charge(size_t bytes, const char* what) {
     budget_.charge(bytes, what);
     bytes_ += bytes;
@@ -77,24 +65,11 @@ class GrowingCharge {
   std::atomic<size_t> bytes_{0};
 };
 
-// Node and primitive storage order depends on the thread count; the tree it
-// describes does not (every decision depends only on the node's references).
-struct BinaryTree {
-  tbb::concurrent_vector<BinaryNode> nodes;
-  tbb::concurrent_vector<PrimRef> prims;  // leaf primitives
-  uint32_t root = BinaryNode::kNone;
-  TimeRange range;  // the tree's time range (BuildSettings::range)
-  std::unique_ptr<GrowingCharge> charge;
-  bool empty() const { return root == BinaryNode::kNone; }
-
-  // Built in place (concurrent_vector's moves are not to be relied on).
-  BinaryTree() = default;
-  BinaryTree(const BinaryTree&) = delete;
-  BinaryTree& operator=(const BinaryTree&) = delete;
-};
-
-// Builds `tree` (empty) over `refs` (reordered; temporal splits work on copies). Charges the
-// tree and the copies to `budget`, the tree for its lifetime.
-void buildBinaryTree(std::span<BuildRef> refs, const BuildSettings& settings, BuildBudget& budget, BinaryTree& tree);
+// Builds `out` over `refs` (reordered; temporal splits work on copies). The
+// result is bit-identical whatever the thread count (wide_layout.h). Charges
+// the scratch to `budget` while it lives and the tree for good.
+template <int N, bool Motion>
+void buildWideTree(std::span<BuildRef> refs, const BuildSettings& settings, BuildBudget& budget,
+                   WideBvh<N, Motion>& out);
 
 }  // namespace mbrt::detail
