@@ -19,6 +19,14 @@ namespace {
 // one min/max each (the fourth lane is ignored). min/max are exact, so the
 // result equals LBounds::extend.
 #ifdef MBRT_BVH_SSE
+// x, y, z of `f` and a zero: no read past f[2].
+inline __m128 load3(const float* f) {
+  double x_y;  // the two floats x, y as one 8-byte load (f need not be 8-byte aligned)
+  std::memcpy(&x_y, f, sizeof x_y);
+  const __m128 xy = _mm_castpd_ps(_mm_set_sd(x_y));
+  return _mm_movelh_ps(xy, _mm_load_ss(f + 2));
+}
+
 struct BinBounds {
   __m128 lo0 = _mm_set1_ps(kInf), hi0 = _mm_set1_ps(-kInf), lo1 = _mm_set1_ps(kInf), hi1 = _mm_set1_ps(-kInf);
 
@@ -36,27 +44,49 @@ struct BinBounds {
     lo1 = _mm_min_ps(lo1, o.lo1);
     hi1 = _mm_max_ps(hi1, o.hi1);
   }
-  LBounds get() const {
-    alignas(16) float v[4][4];
-    _mm_store_ps(v[0], lo0);
-    _mm_store_ps(v[1], hi0);
-    _mm_store_ps(v[2], lo1);
-    _mm_store_ps(v[3], hi1);
-    LBounds b;
-    b.b0.lower = {v[0][0], v[0][1], v[0][2]};
-    b.b0.upper = {v[1][0], v[1][1], v[1][2]};
-    b.b1.lower = {v[2][0], v[2][1], v[2][2]};
-    b.b1.upper = {v[3][0], v[3][1], v[3][2]};
-    return b;
+  LBounds get() const { return {box(lo0, hi0), box(lo1, hi1)}; }
+  // mbsahArea(get()), by the same operations.
+  float mbsahArea() const {
+    const __m128 half = _mm_set1_ps(0.5f);
+    const __m128 lo = _mm_add_ps(_mm_mul_ps(lo0, half), _mm_mul_ps(lo1, half));
+    const __m128 hi = _mm_add_ps(_mm_mul_ps(hi0, half), _mm_mul_ps(hi1, half));
+    if (_mm_movemask_ps(_mm_cmpgt_ps(lo, hi)) & 0x7) return 0.0f;  // Box3f::empty
+    alignas(16) float d[4];
+    _mm_store_ps(d, _mm_sub_ps(hi, lo));
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
   }
 
- private:
-  static __m128 load3(const float* f) {
-    double x_y;  // the two floats x, y as one 8-byte load (f need not be 8-byte aligned)
-    std::memcpy(&x_y, f, sizeof x_y);
-    const __m128 xy = _mm_castpd_ps(_mm_set_sd(x_y));
-    return _mm_movelh_ps(xy, _mm_load_ss(f + 2));
+  static Box3f box(__m128 lo, __m128 hi) {
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, lo);
+    _mm_store_ps(h, hi);
+    return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
   }
+};
+
+// BuildRef::centroid() in three lanes, by the same operations: the box at
+// the centre time (lerp with t = 0.5, whose 1 - t is 0.5 too), then its
+// centre. Bit-identical to the scalar key.
+using Centroid = __m128;
+inline Centroid centroidOf(const BuildRef& r) {
+  const float* f = &r.bounds.b0.lower.x;
+  const __m128 half = _mm_set1_ps(0.5f);
+  const __m128 lo = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(f), half), _mm_mul_ps(_mm_loadu_ps(f + 6), half));
+  const __m128 hi = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(f + 3), half), _mm_mul_ps(load3(f + 9), half));
+  return _mm_mul_ps(_mm_add_ps(lo, hi), half);
+}
+inline float axisOf(Centroid c, int axis) {
+  alignas(16) float v[4];
+  _mm_store_ps(v, c);
+  return v[axis];
+}
+struct CentroidBounds {
+  __m128 lo = _mm_set1_ps(kInf), hi = _mm_set1_ps(-kInf);
+  void extend(Centroid c) {
+    lo = _mm_min_ps(lo, c);
+    hi = _mm_max_ps(hi, c);
+  }
+  Box3f get() const { return BinBounds::box(lo, hi); }
 };
 #else
 struct BinBounds {
@@ -64,6 +94,16 @@ struct BinBounds {
   void extend(const LBounds& o) { b.extend(o); }
   void extend(const BinBounds& o) { b.extend(o.b); }
   LBounds get() const { return b; }
+  float mbsahArea() const { return detail::mbsahArea(b); }
+};
+
+using Centroid = Vec3f;
+inline Centroid centroidOf(const BuildRef& r) { return r.centroid(); }
+inline float axisOf(Centroid c, int axis) { return c[axis]; }
+struct CentroidBounds {
+  Box3f b;
+  void extend(Centroid c) { b.extend(c); }
+  Box3f get() const { return b; }
 };
 #endif
 
@@ -81,20 +121,20 @@ constexpr size_t kGrain = 8192;
 // A RefSetInfo as it is accumulated, one reference at a time.
 struct InfoAcc {
   BinBounds bounds;
-  Box3f centroids;
+  CentroidBounds centroids;
   uint64_t active = 0;
 
-  void add(const BuildRef& r, const Vec3f& centroid) {
+  void add(const BuildRef& r, Centroid centroid) {
     bounds.extend(r.bounds);
     centroids.extend(centroid);
     active += r.active;
   }
-  RefSetInfo get() const { return {bounds.get(), centroids, active}; }
+  RefSetInfo get() const { return {bounds.get(), centroids.get(), active}; }
 };
 
 RefSetInfo summarizeSerial(std::span<const BuildRef> refs) {
   InfoAcc acc;
-  for (const BuildRef& r : refs) acc.add(r, r.centroid());
+  for (const BuildRef& r : refs) acc.add(r, centroidOf(r));
   return acc.get();
 }
 
@@ -153,13 +193,42 @@ class BinArray {
   Bin* data_;
 };
 
+// The bins of a reference on the three axes (ObjectSplit::binAt of each).
+class BinMap {
+ public:
+  explicit BinMap(const ObjectSplit (&axes)[3]) : axes_(axes) {
+#ifdef MBRT_BVH_SSE
+    origin_ = _mm_setr_ps(axes[0].origin, axes[1].origin, axes[2].origin, 0.0f);
+    scale_ = _mm_setr_ps(axes[0].scale, axes[1].scale, axes[2].scale, 0.0f);
+#endif
+  }
+  void binsOf(Centroid c, int (&bin)[3]) const {
+#ifdef MBRT_BVH_SSE
+    alignas(16) int32_t unclamped[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(unclamped),
+                    _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(c, origin_), scale_)));
+    for (int a = 0; a < 3; ++a) bin[a] = std::clamp(unclamped[a], 0, std::max(axes_[a].numBins - 1, 0));
+#else
+    for (int a = 0; a < 3; ++a) bin[a] = axes_[a].binAt(c[a]);
+#endif
+  }
+
+ private:
+  const ObjectSplit (&axes_)[3];
+#ifdef MBRT_BVH_SSE
+  __m128 origin_, scale_;
+#endif
+};
+
 // Fills the bins of the axes that have a transform (axes[a].axis >= 0).
 void fillBins(std::span<const BuildRef> refs, const ObjectSplit (&axes)[3], size_t nb, Bin* bins) {
+  const BinMap map(axes);
   for (const BuildRef& r : refs) {
-    const Vec3f c = r.centroid();
+    int bin[3];
+    map.binsOf(centroidOf(r), bin);
     for (int axis = 0; axis < 3; ++axis) {
       if (axes[axis].axis < 0) continue;
-      Bin& b = bins[size_t(axis) * nb + size_t(axes[axis].binAt(c[axis]))];
+      Bin& b = bins[size_t(axis) * nb + size_t(bin[axis])];
       b.bounds.extend(r.bounds);
       b.active += r.active;
       ++b.count;
@@ -190,7 +259,7 @@ void sweepAxis(const Bin* ab, const ObjectSplit& axis, size_t total, int leafBlo
                float* rightPrim, ObjectSplit& best) {
   const int numBins = axis.numBins;
   // Sweep from the right: cost of bins [i, numBins).
-  LBounds acc;
+  BinBounds acc;
   uint64_t active = 0;
   size_t rightCount = 0;
   // Empty bins change nothing: they repeat the costs of their neighbour
@@ -198,33 +267,35 @@ void sweepAxis(const Bin* ab, const ObjectSplit& axis, size_t total, int leafBlo
   float cost = 0.0f, prim = 0.0f;
   for (int i = numBins - 1; i > 0; --i) {
     if (ab[i].count != 0 || i + 1 == numBins) {
-      acc.extend(ab[i].bounds.get());
+      acc.extend(ab[i].bounds);
       active += ab[i].active;
       rightCount += ab[i].count;
-      cost = mbsahArea(acc) * float(active);
-      prim = mbsahArea(acc) * leafBlocks(rightCount, leafBlock);
+      const float area = acc.mbsahArea();
+      cost = area * float(active);
+      prim = area * leafBlocks(rightCount, leafBlock);
     }
     rightCost[i] = cost;
     rightPrim[i] = prim;
   }
   // Sweep from the left: split between bin i-1 and bin i.
-  acc = LBounds();
+  acc = BinBounds();
   active = 0;
   size_t leftCount = 0;
   // A split after an empty bin repeats the split before it (same sides,
   // same cost; the first one is kept), so it is not evaluated again.
   for (int i = 1; i < numBins; ++i) {
     if (ab[i - 1].count == 0) continue;
-    acc.extend(ab[i - 1].bounds.get());
+    acc.extend(ab[i - 1].bounds);
     active += ab[i - 1].active;
     leftCount += ab[i - 1].count;
     if (leftCount == 0 || leftCount == total) continue;
-    const float c = mbsahArea(acc) * float(active) + rightCost[i];
+    const float area = acc.mbsahArea();
+    const float c = area * float(active) + rightCost[i];
     if (c < best.cost) {
       best = axis;
       best.bin = i;
       best.cost = c;
-      best.primCost = mbsahArea(acc) * leafBlocks(leftCount, leafBlock) + rightPrim[i];
+      best.primCost = area * leafBlocks(leftCount, leafBlock) + rightPrim[i];
     }
   }
 }
@@ -263,28 +334,31 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
   return best;
 }
 
-size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSetInfo sides[2]) {
+size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSetInfo sides[2],
+                       std::span<BuildRef> along0, std::span<BuildRef> along1) {
   // Hoare partition that summarizes each reference as it is placed, so the
   // children need no pass of their own over their references.
   InfoAcc acc[2];
-  auto goesLeft = [&](const Vec3f& c) { return split.binAt(c[split.axis]) < split.bin; };
+  auto goesLeft = [&](Centroid c) { return split.binAt(axisOf(c, split.axis)) < split.bin; };
   size_t i = 0, j = refs.size();
   while (true) {
     for (; i < j; ++i) {
-      const Vec3f c = refs[i].centroid();
+      const Centroid c = centroidOf(refs[i]);
       if (!goesLeft(c)) break;
       acc[0].add(refs[i], c);
     }
     for (; i < j; --j) {
-      const Vec3f c = refs[j - 1].centroid();
+      const Centroid c = centroidOf(refs[j - 1]);
       if (goesLeft(c)) break;
       acc[1].add(refs[j - 1], c);
     }
     if (i == j) break;
     // refs[i] goes right and refs[j - 1] left: swapped into place.
     std::swap(refs[i], refs[j - 1]);
-    acc[0].add(refs[i], refs[i].centroid());
-    acc[1].add(refs[j - 1], refs[j - 1].centroid());
+    if (!along0.empty()) std::swap(along0[i], along0[j - 1]);
+    if (!along1.empty()) std::swap(along1[i], along1[j - 1]);
+    acc[0].add(refs[i], centroidOf(refs[i]));
+    acc[1].add(refs[j - 1], centroidOf(refs[j - 1]));
     ++i;
     --j;
   }

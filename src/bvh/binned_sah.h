@@ -47,7 +47,9 @@ inline float leafBlocks(uint64_t count, int block) { return float((count + uint6
 
 // Moves the left side to the front; returns its size. `sides` gets the
 // summaries of the left and right references (as summarize gives them).
-size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSetInfo sides[2]);
+// `along0` and `along1` (empty, or as long as `refs`) get the same moves.
+size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSetInfo sides[2],
+                       std::span<BuildRef> along0 = {}, std::span<BuildRef> along1 = {});
 
 // Splits at the median binning key along `axis` (ties by ids), for when
 // binning cannot separate the references; returns count / 2, and `sides`

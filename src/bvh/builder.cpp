@@ -57,13 +57,23 @@ class OwnedRefs {
   std::vector<BuildRef> refs_;
 };
 
+// The references of both halves of a temporal split at `time`, in the order
+// of the node's references (when none is dropped from a half).
+struct TemporalHalves {
+  float time = 0.0f;
+  std::span<BuildRef> refs[2];
+  bool alignedWith(std::span<const BuildRef> node) const {
+    return !node.empty() && refs[0].size() == node.size() && refs[1].size() == node.size();
+  }
+};
+
 struct Decision {
   enum Kind { Leaf, Object, Temporal } kind = Leaf;
-  size_t mid = 0;     // Object: size of the left side (references reordered)
-  float time = 0.0f;  // Temporal: split time
-  ObjectSplit split;  // Leaf: the best object split, to fill lanes with
-  std::vector<BuildRef> left, right;  // Temporal: the halves' references
-  RefSetInfo sides[2];                // Object, Temporal: the children's summaries
+  size_t mid = 0;        // Object: size of the left side (references reordered)
+  ObjectSplit split;     // Leaf: the best object split, to fill lanes with
+  RefSetInfo sides[2];   // Object, Temporal: the children's summaries
+  TemporalHalves halves;  // Temporal: the split; Object: the one tried, for the children
+  OwnedRefs made[2];      // the halves' storage, when this node made them
 };
 
 // A node of the binary split hierarchy, as a candidate lane of a wide node.
@@ -77,7 +87,10 @@ struct Candidate {
   float area = 0.0f;  // MBSAH area x range length: the largest is split first
   bool soft = false;
   Decision decision;  // hard nodes only
-  OwnedRefs storage;  // the references, when a temporal split made them
+  OwnedRefs storage;  // the references, when a temporal split narrowed to them
+  // A temporal split of these references (same range) that an ancestor
+  // tried and rejected: its object-split children try it again.
+  TemporalHalves tried;
 
   bool inner() const { return !soft && decision.kind != Decision::Leaf; }
   bool fillable() const { return !inner() && refs.size() > 1; }
@@ -102,57 +115,60 @@ class Driver {
       : s_(s), tree_(tree), budget_(budget) {}
 
   uint32_t buildRoot(std::span<BuildRef> refs) {
-    Candidate root = candidate(refs, summarize(refs), s_.range, 0, false);
+    Candidate root;
+    place(root, refs, summarize(refs), s_.range, 0, false);
     decide(root);
     return build(root);
   }
 
  private:
   // The wide node of `node` (an inner node, or a root leaf); returns its id.
+  // Split candidates stay where they are made, in `pool`, while their lanes
+  // are built: their references (and a temporal split's) live there.
   uint32_t build(Candidate& node) {
-    const TimeRange range = node.range;
-    Candidate lanes[N];
-    std::vector<OwnedRefs> kept;  // references of the nodes split into lanes
+    Candidate* lanes[N] = {&node};
+    Candidate pool[2 * (N - 1)];
+    Candidate* next = pool;
     int n = 1;
-    lanes[0] = std::move(node);
-    if (lanes[0].inner() || lanes[0].fillable()) n = splitLane(lanes, n, 0, kept);
-    n = fill(lanes, n, kept, [](const Candidate& c) { return c.inner(); });
-    n = fill(lanes, n, kept, [](const Candidate& c) { return c.fillable(); });
+    if (node.inner() || node.fillable()) n = splitLane(lanes, n, 0, next);
+    n = fill(lanes, n, next, [](const Candidate& c) { return c.inner(); });
+    n = fill(lanes, n, next, [](const Candidate& c) { return c.fillable(); });
     uint32_t child[N];
-    auto buildLane = [&](int i) { child[i] = lanes[i].inner() ? build(lanes[i]) : storeLeaf(lanes[i]); };
+    auto buildLane = [&](int i) { child[i] = lanes[i]->inner() ? build(*lanes[i]) : storeLeaf(*lanes[i]); };
     if (totalRefs(lanes, n) > s_.parallelThreshold) {
       tbb::parallel_for(0, n, 1, buildLane);
     } else {
       for (int i = 0; i < n; ++i) buildLane(i);
     }
-    return storeNode(lanes, n, range, child);
+    return storeNode(lanes, n, node.range, child);
   }
 
   // Splits the largest lane that `splittable` accepts until the node has N
   // lanes or none is left (STBVH §3.3: "repeatedly splitting the child with
   // the largest area"); the halves keep the split lane's place.
   template <class Splittable>
-  int fill(Candidate (&lanes)[N], int n, std::vector<OwnedRefs>& kept, const Splittable& splittable) {
+  int fill(Candidate* (&lanes)[N], int n, Candidate*& next, const Splittable& splittable) {
     while (n < N) {
       int best = -1;
       for (int i = 0; i < n; ++i)
-        if (splittable(lanes[i]) && (best < 0 || lanes[i].area > lanes[best].area)) best = i;
+        if (splittable(*lanes[i]) && (best < 0 || lanes[i]->area > lanes[best]->area)) best = i;
       if (best < 0) break;
-      n = splitLane(lanes, n, best, kept);
+      n = splitLane(lanes, n, best, next);
     }
     return n;
   }
 
-  // Replaces lane i by its two children (n < N); returns the lane count.
-  int splitLane(Candidate (&lanes)[N], int n, int i, std::vector<OwnedRefs>& kept) {
-    Candidate& node = lanes[i];
-    Candidate halves[2];
-    if (node.inner() && node.decision.kind == Decision::Temporal) {
-      Decision& d = node.decision;
-      halves[0] = candidate({}, d.sides[0], {node.range.lo, d.time}, node.depth + 1, false);
-      halves[1] = candidate({}, d.sides[1], {d.time, node.range.hi}, node.depth + 1, false);
-      adopt(halves[0], std::move(d.left));
-      adopt(halves[1], std::move(d.right));
+  // Replaces lane i by its two children, made at `next` (n < N); returns
+  // the lane count.
+  int splitLane(Candidate* (&lanes)[N], int n, int i, Candidate*& next) {
+    Candidate& node = *lanes[i];
+    Candidate* halves = next;
+    next += 2;
+    Decision& d = node.decision;
+    if (node.inner() && d.kind == Decision::Temporal) {
+      const float time = d.halves.time;
+      place(halves[0], d.halves.refs[0], d.sides[0], {node.range.lo, time}, node.depth + 1, false);
+      place(halves[1], d.halves.refs[1], d.sides[1], {time, node.range.hi}, node.depth + 1, false);
     } else {
       RefSetInfo sides[2];
       size_t mid = node.decision.mid;
@@ -163,10 +179,13 @@ class Driver {
         mid = partition(node.refs, node.info, split, sides);
       }
       const bool soft = !node.inner();
-      halves[0] = candidate(node.refs.first(mid), sides[0], node.range, node.depth + 1, soft);
-      halves[1] = candidate(node.refs.subspan(mid), sides[1], node.range, node.depth + 1, soft);
+      place(halves[0], node.refs.first(mid), sides[0], node.range, node.depth + 1, soft);
+      place(halves[1], node.refs.subspan(mid), sides[1], node.range, node.depth + 1, soft);
+      if (!soft && d.halves.alignedWith(node.refs)) {
+        halves[0].tried = {d.halves.time, {d.halves.refs[0].first(mid), d.halves.refs[1].first(mid)}};
+        halves[1].tried = {d.halves.time, {d.halves.refs[0].subspan(mid), d.halves.refs[1].subspan(mid)}};
+      }
     }
-    kept.push_back(std::move(node.storage));
     auto decideHalf = [&](int h) {
       if (!halves[h].soft) decide(halves[h]);
     };
@@ -176,46 +195,44 @@ class Driver {
       decideHalf(0);
       decideHalf(1);
     }
-    for (int k = n; k > i + 1; --k) lanes[k] = std::move(lanes[k - 1]);
-    lanes[i] = std::move(halves[0]);
-    lanes[i + 1] = std::move(halves[1]);
+    for (int k = n; k > i + 1; --k) lanes[k] = lanes[k - 1];
+    lanes[i] = &halves[0];
+    lanes[i + 1] = &halves[1];
     return n + 1;
   }
 
-  Candidate candidate(std::span<BuildRef> refs, const RefSetInfo& info, TimeRange range, int depth, bool soft) {
-    Candidate c;
+  // Sets what every candidate has (`c` is fresh: no decision, nothing tried).
+  static void place(Candidate& c, std::span<BuildRef> refs, const RefSetInfo& info, TimeRange range, int depth,
+                    bool soft) {
     c.refs = refs;
     c.info = info;
     c.range = range;
     c.depth = depth;
     c.area = mbsahArea(info.bounds) * range.size();
     c.soft = soft;
-    return c;
-  }
-
-  void adopt(Candidate& c, std::vector<BuildRef>&& refs) {
-    c.storage = OwnedRefs(budget_, std::move(refs));
-    c.refs = c.storage.span();
   }
 
   // The SAH's decision for a hard node. A temporal split with a half where
   // nothing is alive makes no node: the candidate narrows to the other half.
   void decide(Candidate& c) {
     while (true) {
-      c.decision = chooseSplit(c.refs, c.info, c.range, c.depth, mbsahArea(c.info.bounds));
+      c.decision = chooseSplit(c);
       Decision& d = c.decision;
-      if (d.kind != Decision::Temporal || (!d.left.empty() && !d.right.empty())) return;
-      const int half = d.left.empty() ? 1 : 0;
-      const TimeRange range = half == 0 ? TimeRange{c.range.lo, d.time} : TimeRange{d.time, c.range.hi};
-      Candidate narrowed = candidate({}, d.sides[half], range, c.depth + 1, false);
-      adopt(narrowed, std::move(half == 0 ? d.left : d.right));
+      const std::span<BuildRef>(&halves)[2] = d.halves.refs;
+      if (d.kind != Decision::Temporal || (!halves[0].empty() && !halves[1].empty())) return;
+      const int half = halves[0].empty() ? 1 : 0;
+      const float time = d.halves.time;
+      const TimeRange range = half == 0 ? TimeRange{c.range.lo, time} : TimeRange{time, c.range.hi};
+      Candidate narrowed;
+      place(narrowed, halves[half], d.sides[half], range, c.depth + 1, false);
+      narrowed.storage = std::move(d.made[half]);
       c = std::move(narrowed);
     }
   }
 
-  static size_t totalRefs(const Candidate (&lanes)[N], int n) {
+  static size_t totalRefs(Candidate* const (&lanes)[N], int n) {
     size_t total = 0;
-    for (int i = 0; i < n; ++i) total += lanes[i].refs.size();
+    for (int i = 0; i < n; ++i) total += lanes[i]->refs.size();
     return total;
   }
 
@@ -227,17 +244,17 @@ class Driver {
     return uint32_t(first);
   }
 
-  uint32_t storeNode(const Candidate (&lanes)[N], int n, TimeRange range, const uint32_t (&child)[N]) {
+  uint32_t storeNode(Candidate* const (&lanes)[N], int n, TimeRange range, const uint32_t (&child)[N]) {
     WideNode<N, Motion> node;
     node.clear();
     // Lanes serving less than the node's range get time ranges (§3.3).
     bool timed = false;
-    for (int i = 0; i < n; ++i) timed |= !(lanes[i].range == range);
+    for (int i = 0; i < n; ++i) timed |= !(lanes[i]->range == range);
     if (Motion && timed) node.times = storeTimes(lanes, n);
     for (int i = 0; i < n; ++i) {
-      node.setBounds(i, globalBounds(lanes[i]));
+      node.setBounds(i, globalBounds(*lanes[i]));
       node.child[i] = child[i];
-      node.count[i] = lanes[i].inner() ? 0 : uint8_t(lanes[i].refs.size());
+      node.count[i] = lanes[i]->inner() ? 0 : uint8_t(lanes[i]->refs.size());
     }
     const auto it = tree_.nodes.push_back(node);
     const size_t id = size_t(it - tree_.nodes.begin());
@@ -245,7 +262,7 @@ class Driver {
     return uint32_t(id);
   }
 
-  uint32_t storeTimes(const Candidate (&lanes)[N], int n) {
+  uint32_t storeTimes(Candidate* const (&lanes)[N], int n) {
     LaneTimes<N> lt;
     std::memset(static_cast<void*>(&lt), 0, sizeof(lt));  // padding too: bytes are compared
     for (int i = 0; i < N; ++i) {
@@ -254,7 +271,7 @@ class Driver {
     }
     const float end = s_.range.hi;
     for (int i = 0; i < n; ++i) {
-      const TimeRange r = lanes[i].range;
+      const TimeRange r = lanes[i]->range;
       lt.t0[i] = r.lo;
       // The end of the tree's range is inclusive: store the next float up.
       lt.t1[i] = r.hi >= end ? std::nextafter(r.hi, kInf) : r.hi;
@@ -271,37 +288,64 @@ class Driver {
   }
 
   // The object split, or the median where binning cannot separate the
-  // references; `sides` gets both children's summaries.
+  // references; `sides` gets both children's summaries. `along` (empty, or
+  // as long as `refs`) gets the same moves; it is emptied if the median's
+  // moves cannot be followed.
+  static size_t partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,
+                          RefSetInfo sides[2], std::span<BuildRef> (&along)[2]) {
+    size_t mid = split.valid() ? partitionObject(refs, split, sides, along[0], along[1]) : 0;
+    if (mid == 0 || mid == refs.size()) {  // partitionObject moved nothing
+      mid = partitionMedian(refs, info.centroids.largestAxis(), sides);
+      along[0] = along[1] = {};
+    }
+    return mid;
+  }
   static size_t partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,
                           RefSetInfo sides[2]) {
-    size_t mid = split.valid() ? partitionObject(refs, split, sides) : 0;
-    if (mid == 0 || mid == refs.size()) mid = partitionMedian(refs, info.centroids.largestAxis(), sides);
-    return mid;
+    std::span<BuildRef> none[2];
+    return partition(refs, info, split, sides, none);
+  }
+
+  // The halves of the temporal split at `time`: those an ancestor made for
+  // the same references when it has them, else made here (Fig. 4 bounds).
+  void temporalHalves(Candidate& c, float time, Decision& d) {
+    if (c.tried.time == time && c.tried.alignedWith(c.refs)) {
+      d.halves = c.tried;
+      return;
+    }
+    std::vector<BuildRef> halves[2];
+    {
+      ScopedCharge scratch(budget_, 2 * c.refs.size() * sizeof(BuildRef), "the temporal split references");
+      splitTemporal(c.refs, c.range, time, *s_.temporal, halves[0], halves[1]);
+    }
+    d.halves.time = time;
+    for (int h = 0; h < 2; ++h) {
+      d.made[h] = OwnedRefs(budget_, std::move(halves[h]));
+      d.halves.refs[h] = d.made[h].span();
+    }
   }
 
   // Leaf cost C_I*A*|X|_s against C_T*A + split cost (MBSAH, STBVH §3.2).
-  Decision chooseSplit(std::span<BuildRef> refs, const RefSetInfo& info, TimeRange range, int depth, float area) {
+  Decision chooseSplit(Candidate& c) {
     Decision d;
+    const std::span<BuildRef> refs = c.refs;
+    const RefSetInfo& info = c.info;
+    const float area = mbsahArea(info.bounds);
     const size_t count = refs.size();
     if (count <= 1 && !s_.temporal) return d;
-    const ObjectSplit split = objectSplit(refs, info, depth);
+    const ObjectSplit split = objectSplit(refs, info, c.depth);
     const float leafCost = area * float(info.active);
     float best = split.cost;  // unnormalised, kInf when invalid
     // Temporal split: tried when the object split is poor (θ), chosen when
     // it wins even with the penalty λ for the references it duplicates.
     TemporalSplit temporal;
     float time = 0.0f;
-    if (s_.temporal && depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
-        temporalSplitTime(refs, range, *s_.temporal, time)) {
-      ScopedCharge scratch(budget_, 2 * refs.size() * sizeof(BuildRef), "the temporal split references");
-      splitTemporal(refs, range, time, *s_.temporal, d.left, d.right);
-      temporal = temporalSplitCost(d.left, d.right, range, time, s_.leafBlock);
+    if (s_.temporal && c.depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
+        temporalSplitTime(refs, c.range, *s_.temporal, time)) {
+      temporalHalves(c, time, d);
+      temporal = temporalSplitCost(d.halves.refs[0], d.halves.refs[1], c.range, time, s_.leafBlock);
       if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
       else temporal = TemporalSplit();
-    }
-    if (!temporal.valid()) {
-      d.left = {};
-      d.right = {};
     }
     // Leaf or split: MBSAH with segment counts, or (primitiveLeafCost) the
     // cost of our leaves, which test a primitive once whatever its segments.
@@ -317,13 +361,19 @@ class Driver {
     }
     if (temporal.valid()) {
       d.kind = Decision::Temporal;
-      d.time = temporal.time;
       std::copy_n(temporal.sides, 2, d.sides);
       return d;
     }
-    if (count <= 1) return d;
+    if (count <= 1) return Decision();
+    // The rejected temporal split goes to the children in their order: they
+    // have the same range, and most try the same split again.
     d.kind = Decision::Object;
-    d.mid = partition(refs, info, split, d.sides);
+    if (!d.halves.alignedWith(refs)) d.halves.refs[0] = d.halves.refs[1] = {};
+    d.mid = partition(refs, info, split, d.sides, d.halves.refs);
+    if (!d.halves.alignedWith(refs)) {  // freed now
+      d.halves = TemporalHalves();
+      for (OwnedRefs& made : d.made) made = OwnedRefs();
+    }
     return d;
   }
 
