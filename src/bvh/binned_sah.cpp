@@ -226,10 +226,12 @@ void fillBins(std::span<const BuildRef> refs, const ObjectSplit (&axes)[3], size
   for (const BuildRef& r : refs) {
     int bin[3];
     map.binsOf(centroidOf(r), bin);
+    BinBounds bounds;  // loaded once for the three axes
+    bounds.extend(r.bounds);
     for (int axis = 0; axis < 3; ++axis) {
       if (axes[axis].axis < 0) continue;
       Bin& b = bins[size_t(axis) * nb + size_t(bin[axis])];
-      b.bounds.extend(r.bounds);
+      b.bounds.extend(bounds);
       b.active += r.active;
       ++b.count;
     }
