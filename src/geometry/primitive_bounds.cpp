@@ -76,7 +76,7 @@ BoxLanes lerp(const BoxLanes& a, const BoxLanes& b, float t) {
 }
 
 // PrimKeys::operator() in lanes.
-BoxLanes keyBox(const PrimKeys& keys, uint32_t key) {
+inline BoxLanes keyBox(const PrimKeys& keys, uint32_t key) {
   if (keys.instance) return BoxLanes::of(keys.instance[key]);
   const VertexBuffer& vb = keys.geometry->vertices(key);
   auto vertex = [&](uint32_t i) {
