@@ -33,11 +33,18 @@ bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const Te
   const BuildRef* most = nullptr;
   uint32_t mostSegments = 0;
   TimeRange mostRange;
+  // Steps are per geometry and references come in runs of one geometry:
+  // ask the source once per run.
+  const BuildRef* run = nullptr;
+  uint32_t segments = 0;
+  TimeRange steps;
   for (const BuildRef& r : refs) {
-    uint32_t segments = 0;
-    const TimeRange steps = source.stepRange(r.prim, segments);
+    if (!run || r.prim.geomID != run->prim.geomID) {
+      run = &r;
+      steps = source.stepRange(r.prim, segments);
+      if (segments > 0) shortest = std::min(shortest, steps.size() / float(segments));
+    }
     if (segments == 0) continue;  // static: no steps to split at
-    shortest = std::min(shortest, steps.size() / float(segments));
     const bool better = !most || r.active > most->active ||
                         (r.active == most->active &&
                          (r.prim.geomID < most->prim.geomID ||
