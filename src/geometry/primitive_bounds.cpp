@@ -87,13 +87,33 @@ inline BoxLanes keyBox(const PrimKeys& keys, uint32_t key) {
   return {min(min(a, b), c) - r, max(max(a, b), c) + r};
 }
 
+// The LBounds b0 -> b1; with SSE its 12 floats go out as three shuffled
+// registers (no 3-float stores read back piecewise).
+LBounds packed(const BoxLanes& b0, const BoxLanes& b1) {
+#ifdef MBRT_BOUNDS_SSE
+  static_assert(sizeof(LBounds) == 12 * sizeof(float));
+  const __m128 l0 = b0.lower.v, u0 = b0.upper.v, l1 = b1.lower.v, u1 = b1.upper.v;
+  const __m128 l0zu0x = _mm_shuffle_ps(l0, u0, _MM_SHUFFLE(0, 0, 2, 2));
+  const __m128 l1zu1x = _mm_shuffle_ps(l1, u1, _MM_SHUFFLE(0, 0, 2, 2));
+  float f[12];
+  _mm_storeu_ps(f, _mm_shuffle_ps(l0, l0zu0x, _MM_SHUFFLE(2, 0, 1, 0)));      // l0.xyz u0.x
+  _mm_storeu_ps(f + 4, _mm_shuffle_ps(u0, l1, _MM_SHUFFLE(1, 0, 2, 1)));      // u0.yz l1.xy
+  _mm_storeu_ps(f + 8, _mm_shuffle_ps(l1zu1x, u1, _MM_SHUFFLE(2, 1, 2, 0)));  // l1.z u1.xyz
+  LBounds out;
+  std::memcpy(&out, f, sizeof(out));
+  return out;
+#else
+  return {{b0.lower.vec(), b0.upper.vec()}, {b1.lower.vec(), b1.upper.vec()}};
+#endif
+}
+
 // widen(LBounds) of the linear bounds b0 -> b1.
 LBounds widened(const BoxLanes& b0, const BoxLanes& b1) {
   // One slack per axis for both ends: that of the largest magnitude among
   // the four corners (the slack grows with the magnitude), in three lanes.
   const Lanes m = max(max(abs(b0.lower), abs(b0.upper)), max(abs(b1.lower), abs(b1.upper)));
   const Lanes s = m * Lanes::all(kRelativeSlack) + Lanes::all(1e-30f);
-  return {{(b0.lower - s).vec(), (b0.upper + s).vec()}, {(b1.lower - s).vec(), (b1.upper + s).vec()}};
+  return packed({b0.lower - s, b0.upper + s}, {b1.lower - s, b1.upper + s});
 }
 
 }  // namespace
