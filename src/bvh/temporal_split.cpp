@@ -100,19 +100,24 @@ void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, 
   std::vector<BuildRef>* outs[2] = {&left, &right};
   for (int i = 0; i < 2; ++i) {
     std::vector<BuildRef>& out = *outs[i];
-    out.resize(refs.size());
-    size_t n = 0;
-    if (refs.size() < kParallelRefs) {
-      for (const BuildRef& r : refs) n += remakeRef(r, halves[i], source, out[n]);
+    if (refs.size() < kParallelRefs) {  // appended: no constructed-then-overwritten references
+      out.clear();
+      out.reserve(refs.size());
+      for (const BuildRef& r : refs) {
+        BuildRef made;
+        if (remakeRef(r, halves[i], source, made)) out.push_back(made);
+      }
     } else {
+      out.resize(refs.size());
+      size_t n = 0;
       std::vector<uint8_t> keep(refs.size(), 0);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t k = r.begin(); k != r.end(); ++k) keep[k] = remakeRef(refs[k], halves[i], source, out[k]);
       });
       for (size_t k = 0; k < refs.size(); ++k)  // serial compaction keeps the order
         if (keep[k]) out[n++] = out[k];
+      out.resize(n);
     }
-    out.resize(n);
   }
 }
 
