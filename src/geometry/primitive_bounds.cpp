@@ -160,7 +160,7 @@ LBounds linearBounds(const SceneContext& ctx, PrimRef ref, TimeRange range) {
   if (range.hi > range.lo) {
     Lanes pushLower = Lanes::all(0.0f), pushUpper = Lanes::all(0.0f);
     for (uint32_t k = s0; k <= s1 + 1; ++k) {
-      const float tk = g.stepTime(k);
+      const float tk = keys.stepTimes[k];
       if (!(tk < range.hi)) break;  // step times grow with k
       if (!(tk > range.lo)) continue;
       const BoxLanes line = lerp(b0, b1, (tk - range.lo) / range.size());
