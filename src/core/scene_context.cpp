@@ -18,7 +18,8 @@ SceneContext::SceneContext(const Scene& scene, const BuildOptions& options, Buil
   stepTimes_.resize(n);
   for (uint32_t id = 0; id < n; ++id) {
     geometries_[id] = &scene.geometry(id);
-    for (uint32_t k = 0; k < geometries_[id]->numSteps(); ++k) stepTimes_[id].push_back(geometries_[id]->stepTime(k));
+    for (uint32_t k = 0; k < geometries_[id]->numSteps(); ++k)
+      stepTimes_[id].push_back(geometries_[id]->stepTime(k));
     numPrimitives_ += geometries_[id]->numPrimitives();
     if (geometries_[id]->type() != GeometryType::Instance) continue;
     const Scene* childScene = geometries_[id]->instancedScene();

@@ -26,8 +26,8 @@ struct PrimKeys {
   const Geometry* geometry;
   const float* stepTimes;  // Geometry::stepTime of each key (no division per key)
   const Box3f* instance;   // instances: their key boxes; else null
-  uint32_t v[3];          // vertices (a segment repeats its second)
-  float radius;           // segments: the larger vertex radius; else 0
+  uint32_t v[3];           // vertices (a segment repeats its second)
+  float radius;            // segments: the larger vertex radius; else 0
 
   Box3f operator()(uint32_t key) const {
     if (instance) return instance[key];
