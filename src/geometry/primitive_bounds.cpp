@@ -33,12 +33,6 @@ struct Lanes {
   }
   static Lanes of(const Vec3f& p) { return load(&p.x); }
   static Lanes all(float s) { return {_mm_set1_ps(s)}; }
-  Vec3f vec() const {
-    Vec3f p;
-    _mm_storel_pi(reinterpret_cast<__m64*>(&p.x), v);
-    _mm_store_ss(&p.z, _mm_movehl_ps(v, v));
-    return p;
-  }
   friend Lanes operator+(Lanes a, Lanes b) { return {_mm_add_ps(a.v, b.v)}; }
   friend Lanes operator-(Lanes a, Lanes b) { return {_mm_sub_ps(a.v, b.v)}; }
   friend Lanes operator*(Lanes a, Lanes b) { return {_mm_mul_ps(a.v, b.v)}; }
