@@ -33,11 +33,18 @@ bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const Te
   const BuildRef* most = nullptr;
   uint32_t mostSegments = 0;
   TimeRange mostRange;
+  // Steps are per geometry and references come in runs of one geometry:
+  // ask the source once per run.
+  const BuildRef* run = nullptr;
+  uint32_t segments = 0;
+  TimeRange steps;
   for (const BuildRef& r : refs) {
-    uint32_t segments = 0;
-    const TimeRange steps = source.stepRange(r.prim, segments);
+    if (!run || r.prim.geomID != run->prim.geomID) {
+      run = &r;
+      steps = source.stepRange(r.prim, segments);
+      if (segments > 0) shortest = std::min(shortest, steps.size() / float(segments));
+    }
     if (segments == 0) continue;  // static: no steps to split at
-    shortest = std::min(shortest, steps.size() / float(segments));
     const bool better = !most || r.active > most->active ||
                         (r.active == most->active &&
                          (r.prim.geomID < most->prim.geomID ||
@@ -93,19 +100,24 @@ void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, 
   std::vector<BuildRef>* outs[2] = {&left, &right};
   for (int i = 0; i < 2; ++i) {
     std::vector<BuildRef>& out = *outs[i];
-    out.resize(refs.size());
-    size_t n = 0;
-    if (refs.size() < kParallelRefs) {
-      for (const BuildRef& r : refs) n += remakeRef(r, halves[i], source, out[n]);
+    if (refs.size() < kParallelRefs) {  // appended: no constructed-then-overwritten references
+      out.clear();
+      out.reserve(refs.size());
+      for (const BuildRef& r : refs) {
+        BuildRef made;
+        if (remakeRef(r, halves[i], source, made)) out.push_back(made);
+      }
     } else {
+      out.resize(refs.size());
+      size_t n = 0;
       std::vector<uint8_t> keep(refs.size(), 0);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t k = r.begin(); k != r.end(); ++k) keep[k] = remakeRef(refs[k], halves[i], source, out[k]);
       });
       for (size_t k = 0; k < refs.size(); ++k)  // serial compaction keeps the order
         if (keep[k]) out[n++] = out[k];
+      out.resize(n);
     }
-    out.resize(n);
   }
 }
 

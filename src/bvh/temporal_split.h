@@ -26,7 +26,8 @@ inline constexpr float kTemporalPenalty = 1.25f;  // λ
 class TemporalSource {
  public:
   virtual ~TemporalSource() = default;
-  // The primitive's geometry time range and its motion segments (0: static).
+  // The primitive's geometry time range and its motion segments (0: static),
+  // the same for every primitive of a geometry.
   // Step k sits at range.lo + range.size() * k / segments (Geometry::stepTime).
   virtual TimeRange stepRange(PrimRef prim, uint32_t& segments) const = 0;
   // The reference for `range` (tree parameter): bounds recomputed over it

@@ -15,8 +15,11 @@ SceneContext::SceneContext(const Scene& scene, const BuildOptions& options, Buil
   childOf_.assign(n, nullptr);
   childContextOf_.assign(n, nullptr);
   instanceKeyBoxes_.resize(n);
+  stepTimes_.resize(n);
   for (uint32_t id = 0; id < n; ++id) {
     geometries_[id] = &scene.geometry(id);
+    for (uint32_t k = 0; k < geometries_[id]->numSteps(); ++k)
+      stepTimes_[id].push_back(geometries_[id]->stepTime(k));
     numPrimitives_ += geometries_[id]->numPrimitives();
     if (geometries_[id]->type() != GeometryType::Instance) continue;
     const Scene* childScene = geometries_[id]->instancedScene();
@@ -60,23 +63,6 @@ void SceneContext::addChildStats(AccelStats& stats) const {
     stats.innerNodes += s.innerNodes;
     stats.leafNodes += s.leafNodes;
   }
-}
-
-PrimKeys SceneContext::keys(PrimRef ref) const {
-  const Geometry& g = *geometries_[ref.geomID];
-  switch (g.type()) {
-    case GeometryType::Triangles: {
-      const Triangle& t = g.triangles()[ref.primID];
-      return {&g, nullptr, {t.v0, t.v1, t.v2}, 0.0f};
-    }
-    case GeometryType::Segments: {
-      const Segment& s = g.segments()[ref.primID];
-      return {&g, nullptr, {s.v0, s.v1, s.v1}, std::max(g.radii()[s.v0], g.radii()[s.v1])};
-    }
-    case GeometryType::Instance:
-      break;
-  }
-  return {&g, instanceKeyBoxes_[ref.geomID].data(), {0, 0, 0}, 0.0f};
 }
 
 Box3f SceneContext::boundsOver(TimeRange range) const {

@@ -24,9 +24,10 @@ struct PrimRef {
 // the primitive's vertices looked up once (Fig. 4 bounds read many keys).
 struct PrimKeys {
   const Geometry* geometry;
-  const Box3f* instance;  // instances: their key boxes; else null
-  uint32_t v[3];          // vertices (a segment repeats its second)
-  float radius;           // segments: the larger vertex radius; else 0
+  const float* stepTimes;  // Geometry::stepTime of each key (no division per key)
+  const Box3f* instance;   // instances: their key boxes; else null
+  uint32_t v[3];           // vertices (a segment repeats its second)
+  float radius;            // segments: the larger vertex radius; else 0
 
   Box3f operator()(uint32_t key) const {
     if (instance) return instance[key];
@@ -83,7 +84,27 @@ class SceneContext {
   std::vector<const SceneContext*> childContextOf_;      // per geometry (instances only)
   std::vector<std::vector<Box3f>> instanceKeyBoxes_;     // per geometry (instances only)
   std::vector<std::vector<Box3f>> geometryKeyBoxes_;     // per geometry, per key (when instanced)
+  std::vector<std::vector<float>> stepTimes_;            // per geometry, per key
 };
+
+// Inline: the bounds of every reference start here.
+inline PrimKeys SceneContext::keys(PrimRef ref) const {
+  const Geometry& g = *geometries_[ref.geomID];
+  const float* times = stepTimes_[ref.geomID].data();
+  switch (g.type()) {
+    case GeometryType::Triangles: {
+      const Triangle& t = g.triangles()[ref.primID];
+      return {&g, times, nullptr, {t.v0, t.v1, t.v2}, 0.0f};
+    }
+    case GeometryType::Segments: {
+      const Segment& s = g.segments()[ref.primID];
+      return {&g, times, nullptr, {s.v0, s.v1, s.v1}, std::max(g.radii()[s.v0], g.radii()[s.v1])};
+    }
+    case GeometryType::Instance:
+      break;
+  }
+  return {&g, times, instanceKeyBoxes_[ref.geomID].data(), {0, 0, 0}, 0.0f};
+}
 
 // Builds the structure of options.kind over a context (structure_factory.cpp).
 std::unique_ptr<Structure> makeStructure(const SceneContext& context);
