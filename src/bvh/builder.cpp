@@ -9,8 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
-#include "bvh/binned_sah.h"
-#include "bvh/temporal_split.h"
+#include "bvh/split_choice.h"
 #include "bvh/wide_layout.h"
 #include "geometry/primitive_bounds.h"
 
@@ -27,54 +26,6 @@ void chargeBlocks(GrowingCharge& charge, size_t first, size_t count, const char*
   const size_t after = (first + count + kChargeBlock - 1) / kChargeBlock;
   if (after > before) charge.charge((after - before) * kChargeBlock * sizeof(T), what);
 }
-
-// References made by a temporal split, charged to the budget while they
-// live. Moving keeps the buffer, so spans into it stay valid.
-class OwnedRefs {
- public:
-  OwnedRefs() = default;
-  OwnedRefs(BuildBudget& budget, std::vector<BuildRef>&& refs) : refs_(std::move(refs)) {
-    budget.charge(bytes(), "the temporal split references");
-    budget_ = &budget;
-  }
-  OwnedRefs(OwnedRefs&& o) noexcept : budget_(std::exchange(o.budget_, nullptr)), refs_(std::move(o.refs_)) {}
-  OwnedRefs& operator=(OwnedRefs&& o) noexcept {
-    release();
-    budget_ = std::exchange(o.budget_, nullptr);
-    refs_ = std::move(o.refs_);
-    return *this;
-  }
-  ~OwnedRefs() { release(); }
-  std::span<BuildRef> span() { return refs_; }
-
- private:
-  size_t bytes() const { return refs_.size() * sizeof(BuildRef); }
-  void release() {
-    if (budget_) budget_->release(bytes());
-    budget_ = nullptr;
-  }
-  BuildBudget* budget_ = nullptr;
-  std::vector<BuildRef> refs_;
-};
-
-// The references of both halves of a temporal split at `time`, in the order
-// of the node's references (when none is dropped from a half).
-struct TemporalHalves {
-  float time = 0.0f;
-  std::span<BuildRef> refs[2];
-  bool alignedWith(std::span<const BuildRef> node) const {
-    return !node.empty() && refs[0].size() == node.size() && refs[1].size() == node.size();
-  }
-};
-
-struct Decision {
-  enum Kind { Leaf, Object, Temporal } kind = Leaf;
-  size_t mid = 0;        // Object: size of the left side (references reordered)
-  ObjectSplit split;     // Leaf: the best object split, to fill lanes with
-  RefSetInfo sides[2];   // Object, Temporal: the children's summaries
-  TemporalHalves halves;  // Temporal: the split; Object: the one tried, for the children
-  OwnedRefs made[2];      // the halves' storage, when this node made them
-};
 
 // A node of the binary split hierarchy, as a candidate lane of a wide node.
 // Hard nodes carry the SAH's decision; soft nodes lie below a leaf decision
@@ -112,7 +63,7 @@ template <int N, bool Motion>
 class Driver {
  public:
   Driver(const BuildSettings& s, UnorderedWideBvh<N, Motion>& tree, BuildBudget& budget)
-      : s_(s), tree_(tree), budget_(budget) {}
+      : s_(s), tree_(tree), chooser_(s, budget) {}
 
   uint32_t buildRoot(std::span<BuildRef> refs) {
     Candidate root;
@@ -175,8 +126,9 @@ class Driver {
       if (node.inner()) {
         std::copy_n(node.decision.sides, 2, sides);
       } else {  // fill: split by objects, whatever the SAH says
-        const ObjectSplit split = node.soft ? objectSplit(node.refs, node.info, node.depth) : node.decision.split;
-        mid = partition(node.refs, node.info, split, sides);
+        const ObjectSplit split =
+            node.soft ? chooser_.objectSplit(node.refs, node.info, node.depth) : node.decision.split;
+        mid = SplitChooser::partition(node.refs, node.info, split, sides);
       }
       const bool soft = !node.inner();
       place(halves[0], node.refs.first(mid), sides[0], node.range, node.depth + 1, soft);
@@ -216,7 +168,7 @@ class Driver {
   // nothing is alive makes no node: the candidate narrows to the other half.
   void decide(Candidate& c) {
     while (true) {
-      c.decision = chooseSplit(c);
+      c.decision = chooser_.choose(c.refs, c.info, c.range, c.depth, c.tried);
       Decision& d = c.decision;
       const std::span<BuildRef>(&halves)[2] = d.halves.refs;
       if (d.kind != Decision::Temporal || (!halves[0].empty() && !halves[1].empty())) return;
@@ -282,104 +234,9 @@ class Driver {
     return uint32_t(id);
   }
 
-  ObjectSplit objectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int depth) const {
-    if (depth >= s_.maxBinnedDepth || refs.size() <= 1) return ObjectSplit();
-    return findObjectSplit(refs, info, s_.numBins, {}, s_.leafBlock);
-  }
-
-  // The object split, or the median where binning cannot separate the
-  // references; `sides` gets both children's summaries. `along` (empty, or
-  // as long as `refs`) gets the same moves; it is emptied if the median's
-  // moves cannot be followed.
-  static size_t partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,
-                          RefSetInfo sides[2], std::span<BuildRef> (&along)[2]) {
-    size_t mid = split.valid() ? partitionObject(refs, split, sides, along[0], along[1]) : 0;
-    if (mid == 0 || mid == refs.size()) {  // partitionObject moved nothing
-      mid = partitionMedian(refs, info.centroids.largestAxis(), sides);
-      along[0] = along[1] = {};
-    }
-    return mid;
-  }
-  static size_t partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,
-                          RefSetInfo sides[2]) {
-    std::span<BuildRef> none[2];
-    return partition(refs, info, split, sides, none);
-  }
-
-  // The halves of the temporal split at `time`: those an ancestor made for
-  // the same references when it has them, else made here (Fig. 4 bounds).
-  void temporalHalves(Candidate& c, float time, Decision& d) {
-    if (c.tried.time == time && c.tried.alignedWith(c.refs)) {
-      d.halves = c.tried;
-      return;
-    }
-    std::vector<BuildRef> halves[2];
-    {
-      ScopedCharge scratch(budget_, 2 * c.refs.size() * sizeof(BuildRef), "the temporal split references");
-      splitTemporal(c.refs, c.range, time, *s_.temporal, halves[0], halves[1]);
-    }
-    d.halves.time = time;
-    for (int h = 0; h < 2; ++h) {
-      d.made[h] = OwnedRefs(budget_, std::move(halves[h]));
-      d.halves.refs[h] = d.made[h].span();
-    }
-  }
-
-  // Leaf cost C_I*A*|X|_s against C_T*A + split cost (MBSAH, STBVH §3.2).
-  Decision chooseSplit(Candidate& c) {
-    Decision d;
-    const std::span<BuildRef> refs = c.refs;
-    const RefSetInfo& info = c.info;
-    const float area = mbsahArea(info.bounds);
-    const size_t count = refs.size();
-    if (count <= 1 && !s_.temporal) return d;
-    const ObjectSplit split = objectSplit(refs, info, c.depth);
-    const float leafCost = area * float(info.active);
-    float best = split.cost;  // unnormalised, kInf when invalid
-    // Temporal split: tried when the object split is poor (θ), chosen when
-    // it wins even with the penalty λ for the references it duplicates.
-    TemporalSplit temporal;
-    float time = 0.0f;
-    if (s_.temporal && c.depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
-        temporalSplitTime(refs, c.range, *s_.temporal, time)) {
-      temporalHalves(c, time, d);
-      temporal = temporalSplitCost(d.halves.refs[0], d.halves.refs[1], c.range, time, s_.leafBlock);
-      if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
-      else temporal = TemporalSplit();
-    }
-    // Leaf or split: MBSAH with segment counts, or (primitiveLeafCost) the
-    // cost of our leaves, which test a primitive once whatever its segments.
-    float splitCost = s_.traversalCost * area + best, leafTest = leafCost;
-    if (s_.primitiveLeafCost) {
-      splitCost = s_.traversalCost * area + (temporal.valid() ? temporal.primCost : split.primCost);
-      leafTest = area * leafBlocks(count, s_.leafBlock);
-    }
-    if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) {
-      Decision leaf;
-      leaf.split = split;
-      return leaf;
-    }
-    if (temporal.valid()) {
-      d.kind = Decision::Temporal;
-      std::copy_n(temporal.sides, 2, d.sides);
-      return d;
-    }
-    if (count <= 1) return Decision();
-    // The rejected temporal split goes to the children in their order: they
-    // have the same range, and most try the same split again.
-    d.kind = Decision::Object;
-    if (!d.halves.alignedWith(refs)) d.halves.refs[0] = d.halves.refs[1] = {};
-    d.mid = partition(refs, info, split, d.sides, d.halves.refs);
-    if (!d.halves.alignedWith(refs)) {  // freed now
-      d.halves = TemporalHalves();
-      for (OwnedRefs& made : d.made) made = OwnedRefs();
-    }
-    return d;
-  }
-
   const BuildSettings& s_;
   UnorderedWideBvh<N, Motion>& tree_;
-  BuildBudget& budget_;
+  SplitChooser chooser_;
 };
 
 }  // namespace
