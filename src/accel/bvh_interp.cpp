@@ -11,20 +11,18 @@ class BvhInterp final : public WideBvhStructure<N, true> {
   using Base = WideBvhStructure<N, true>;
   using Base::bvh_;
   using Base::ctx_;
-  using Base::sceneArea_;
 
  public:
   explicit BvhInterp(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
     buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_);
-    sceneArea_ = sceneSahArea(ctx);
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, {0.0f, 1.0f}); }, sums);
-    sums.fill(s, sceneArea_);
+    sums.fill(s, sceneSahArea(ctx_));
   }
 
   // Same topology, new bounds: leaves from the primitives, inner lanes from
@@ -39,7 +37,6 @@ class BvhInterp final : public WideBvhStructure<N, true> {
     bool ok = true;
     refitNode(0, ok);
     if (!ok) return false;
-    sceneArea_ = sceneSahArea(ctx_);
     return true;
   }
 

@@ -54,7 +54,6 @@ class BvhSegments final : public Structure, public BvhInspect {
     trees_.resize(n);
     // Independent trees: built side by side (each is deterministic).
     tbb::parallel_for(0u, n, [&](uint32_t i) { buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i]); });
-    sceneArea_ = sceneSahArea(ctx);
   }
 
   bool intersect(RayQuery& ray, Hit& hit) const override {
@@ -81,7 +80,7 @@ class BvhSegments final : public Structure, public BvhInspect {
       const TimeRange r = segmentRange(i, n);
       addTreeCost(trees_[i], 1.0 / n, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, r); }, sums);
     }
-    sums.fill(s, sceneArea_);
+    sums.fill(s, sceneSahArea(ctx_));
   }
 
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
@@ -105,7 +104,6 @@ class BvhSegments final : public Structure, public BvhInspect {
  private:
   const SceneContext& ctx_;
   std::vector<WideBvh<N, true>> trees_;
-  double sceneArea_ = 0.0;
 };
 
 }  // namespace

@@ -27,20 +27,18 @@ class Frozen final : public WideBvhStructure<N, false> {
   using Base = WideBvhStructure<N, false>;
   using Base::bvh_;
   using Base::ctx_;
-  using Base::sceneArea_;
 
  public:
   // Every ray sees the scene at the frozen time.
   explicit Frozen(const SceneContext& ctx) : Base(ctx, ctx.options().frozenTime), time_(ctx.options().frozenTime) {
     const std::vector<PrimRef> prims = ctx.primitives();
     buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_);
-    sceneArea_ = sceneSahArea(ctx);
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
-    sums.fill(s, sceneArea_);
+    sums.fill(s, sceneSahArea(ctx_));
   }
 
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {

@@ -36,20 +36,18 @@ class Stbvh final : public WideBvhStructure<N, true> {
   using Base = WideBvhStructure<N, true>;
   using Base::bvh_;
   using Base::ctx_;
-  using Base::sceneArea_;
 
  public:
   explicit Stbvh(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     const SceneTiming timing(ctx);
     buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing);
-    sceneArea_ = sceneSahArea(ctx);
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange r) { return activeSegments(ctx_, p, r); }, sums);
-    sums.fill(s, sceneArea_);
+    sums.fill(s, sceneSahArea(ctx_));
   }
 
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {

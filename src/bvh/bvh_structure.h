@@ -54,7 +54,6 @@ class WideBvhStructure : public Structure, public BvhInspect {
 
   const SceneContext& ctx_;
   WideBvh<N, Motion> bvh_;
-  double sceneArea_ = 0.0;
 
  private:
   float boxTime(RayQuery& ray) const {

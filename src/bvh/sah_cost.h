@@ -17,7 +17,8 @@ namespace mbrt::detail {
 double meanSurfaceArea(const LBounds& b, float lo = 0.0f, float hi = 1.0f);
 
 // A(scene): surface area of the union of every primitive's bounds over the
-// whole shutter [0,1]; the denominator shared by every kind.
+// whole shutter [0,1]; the denominator shared by every kind. A pass over
+// every primitive: computed when stats are asked for, not in the build.
 double sceneSahArea(const SceneContext& ctx);
 
 // Sums of one or more trees, turned into AccelStats by `fill`.

@@ -181,7 +181,6 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
       }
     }
     charge_ = std::make_unique<ScopedCharge>(budget, byteCount(), "the MSBVH nodes");
-    sceneArea_ = sceneSahArea(ctx);
   }
 
   uint32_t keySegments() const override { return n_; }
@@ -220,7 +219,7 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
           }
         }
     }
-    sums.fill(s, sceneArea_);
+    sums.fill(s, sceneSahArea(ctx_));
   }
 
   // §5: same topology; every reference is re-clipped (to its region, see
@@ -232,7 +231,6 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
     if (nodes_.empty()) return numPrims_ == 0;
     computeLeafKeys();
     propagate();
-    sceneArea_ = sceneSahArea(ctx_);
     return true;
   }
 
@@ -430,7 +428,6 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
   uint32_t depth_ = 0;
   uint32_t stackSize_ = 1;
   size_t numPrims_ = 0;
-  double sceneArea_ = 0.0;
   std::unique_ptr<ScopedCharge> charge_;
 };
 
