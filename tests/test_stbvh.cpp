@@ -7,7 +7,9 @@
 
 #include <cmath>
 
+#include "accel/scene_timing.h"
 #include "bvh/binned_sah.h"
+#include "bvh/bvh_structure.h"
 #include "bvh/inspect.h"
 #include "bvh/temporal_split.h"
 #include "core/scene_context.h"
@@ -244,5 +246,29 @@ TEST(Stbvh, WideNodesAreFilled) {
     const double lanes = double(st.innerNodes - 1 + st.leafNodes) / double(st.innerNodes);
     EXPECT_GT(lanes, least) << toString(kind);
     EXPECT_LE(lanes, 8.0) << toString(kind);
+  }
+}
+
+// A temporal split tried and rejected is handed to the object-split
+// children, which take their part instead of recomputing the halves
+// (split_choice.h): the trees must be byte for byte those of recomputing
+// every trial, on scenes where many trials are rejected.
+TEST(Stbvh, ReusedTemporalSplitsGiveTheSameTrees) {
+  for (const char* name : {"translate", "crowd", "deform"}) {
+    const ProceduralScene ps = makeProceduralScene(name, 0.05, 2);
+    BuildOptions o;
+    o.kind = AccelKind::Stbvh;
+    detail::BuildBudget budget;
+    detail::SceneContext ctx(*ps.scene, o, budget);
+    const std::vector<detail::PrimRef> prims = ctx.primitives();
+    const detail::SceneTiming timing(ctx);
+    std::vector<uint8_t> bytes[2];
+    for (int reuse = 0; reuse < 2; ++reuse) {
+      detail::WideBvh<8, true> bvh;
+      detail::buildWideBvh(ctx, prims, detail::ShutterRefs(ctx), bvh, &timing, reuse == 1);
+      ASSERT_GT(bvh.times.size(), 0u) << name << ": no temporal split to check";
+      detail::appendBytes(bvh, bytes[reuse]);
+    }
+    EXPECT_EQ(bytes[0], bytes[1]) << name;
   }
 }

@@ -1,35 +1,11 @@
 #include "accel/stbvh.h"
 
+#include "accel/scene_timing.h"
 #include "bvh/bvh_structure.h"
 #include "bvh/sah_cost.h"
-#include "bvh/temporal_split.h"
 
 namespace mbrt::detail {
 namespace {
-
-// References for a part of the shutter: the primitive's linear bounds over
-// exactly that part (Fig. 4), local to it (the nodes get the global form).
-struct SceneTiming final : TemporalSource {
-  const SceneContext& ctx;
-  explicit SceneTiming(const SceneContext& c) : ctx(c) {}
-  TimeRange stepRange(PrimRef prim, uint32_t& segments) const override {
-    const Geometry& g = ctx.geometry(prim.geomID);
-    segments = g.numSteps() - 1;
-    return g.timeRange();
-  }
-  bool remake(const BuildRef& ref, TimeRange range, BuildRef& out) const override {
-    // Alive somewhere in the half-open range (a geometry range ending at 1
-    // contains 1, but a half-open range starting at 1 is empty).
-    const TimeRange alive = ctx.geometry(ref.prim.geomID).timeRange();
-    if (!(alive.lo < range.hi && alive.hi > range.lo)) return false;
-    out.prim = ref.prim;
-    out.bounds = linearBounds(ctx, ref.prim, range);
-    out.active = activeSegments(ctx, ref.prim, range);
-    out.total = ref.total;
-    out.range = range;
-    return true;
-  }
-};
 
 template <int N>
 class Stbvh final : public WideBvhStructure<N, true> {

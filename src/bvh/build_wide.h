@@ -25,14 +25,17 @@ inline BuildSettings settingsFor(const BuildOptions& o, TimeRange range) {
 inline constexpr float kFilledTraversalScale = 1.5f;
 
 // With a TemporalSource the builder also makes temporal splits (stbvh).
+// `reuseTriedTemporalSplits`: BuildSettings' (tests turn it off).
 template <int N, bool Motion>
 void buildWideBvh(const SceneContext& ctx, std::span<const PrimRef> prims, const RefMaker& maker,
-                  WideBvh<N, Motion>& out, const TemporalSource* temporal = nullptr) {
+                  WideBvh<N, Motion>& out, const TemporalSource* temporal = nullptr,
+                  bool reuseTriedTemporalSplits = true) {
   BuildBudget& budget = ctx.budget();
   ScopedCharge refCharge(budget, prims.size() * (sizeof(BuildRef) + 1), "the BVH build references");
   std::vector<BuildRef> refs = makeBuildRefs(prims, maker);
   BuildSettings settings = settingsFor(ctx.options(), {0.0f, 1.0f});
   settings.temporal = temporal;
+  settings.reuseTriedTemporalSplits = reuseTriedTemporalSplits;
   if (temporal) {  // stbvh: leaf cost in references, in pairs (docs/stbvh.md)
     settings.primitiveLeafCost = true;
     settings.leafBlock = 2;

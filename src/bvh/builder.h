@@ -46,6 +46,10 @@ struct BuildSettings {
   // leaf of 2 costs what a leaf of 1 does (Embree counts blocks of 4): fewer,
   // fuller leaves and fewer nodes for a few more intersections per ray.
   int leafBlock = 1;
+  // A temporal split an ancestor tried and rejected is reused by its
+  // object-split children (split_choice.h); off only to check, in tests,
+  // that the trees are those of recomputing every trial.
+  bool reuseTriedTemporalSplits = true;
 };
 
 // Memory charged by a growing structure in blocks; released with it.

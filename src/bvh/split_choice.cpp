@@ -84,7 +84,7 @@ size_t SplitChooser::partition(std::span<BuildRef> refs, const RefSetInfo& info,
 // same references when it has them, else made here (Fig. 4 bounds).
 void SplitChooser::temporalHalves(std::span<BuildRef> refs, TimeRange range, float time,
                                   const TemporalHalves& tried, Decision& d) {
-  if (tried.time == time && tried.alignedWith(refs)) {
+  if (s_.reuseTriedTemporalSplits && tried.time == time && tried.alignedWith(refs)) {
     d.halves = tried;
     return;
   }
