@@ -7,7 +7,6 @@
 
 #include <cmath>
 
-#include "accel/scene_timing.h"
 #include "bvh/binned_sah.h"
 #include "bvh/bvh_structure.h"
 #include "bvh/inspect.h"

@@ -1,6 +1,5 @@
 #include "accel/stbvh.h"
 
-#include "accel/scene_timing.h"
 #include "bvh/bvh_structure.h"
 #include "bvh/sah_cost.h"
 
