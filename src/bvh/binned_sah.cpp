@@ -343,24 +343,25 @@ size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSe
   InfoAcc acc[2];
   auto goesLeft = [&](Centroid c) { return split.binAt(axisOf(c, split.axis)) < split.bin; };
   size_t i = 0, j = refs.size();
+  Centroid right{}, left{};  // keys of the pair that stopped the scans
   while (true) {
     for (; i < j; ++i) {
-      const Centroid c = centroidOf(refs[i]);
-      if (!goesLeft(c)) break;
-      acc[0].add(refs[i], c);
+      right = centroidOf(refs[i]);
+      if (!goesLeft(right)) break;
+      acc[0].add(refs[i], right);
     }
     for (; i < j; --j) {
-      const Centroid c = centroidOf(refs[j - 1]);
-      if (goesLeft(c)) break;
-      acc[1].add(refs[j - 1], c);
+      left = centroidOf(refs[j - 1]);
+      if (goesLeft(left)) break;
+      acc[1].add(refs[j - 1], left);
     }
     if (i == j) break;
     // refs[i] goes right and refs[j - 1] left: swapped into place.
     std::swap(refs[i], refs[j - 1]);
     if (!along0.empty()) std::swap(along0[i], along0[j - 1]);
     if (!along1.empty()) std::swap(along1[i], along1[j - 1]);
-    acc[0].add(refs[i], centroidOf(refs[i]));
-    acc[1].add(refs[j - 1], centroidOf(refs[j - 1]));
+    acc[0].add(refs[i], left);
+    acc[1].add(refs[j - 1], right);
     ++i;
     --j;
   }

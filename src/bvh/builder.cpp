@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <utility>
 #include <vector>
@@ -192,7 +193,15 @@ class Driver {
     const auto it = tree_.prims.grow_by(c.refs.size());
     const size_t first = size_t(it - tree_.prims.begin());
     chargeBlocks<PrimRef>(tree_.charge, first, c.refs.size(), "the BVH build's leaves");
-    for (size_t k = 0; k < c.refs.size(); ++k) tree_.prims[first + k] = c.refs[k].prim;
+    // Sorted by geometry: the leaf test takes one geometry's run at a time
+    // (leaf_intersect.h). A leaf is small (its lane count is 8 bits).
+    PrimRef leaf[UINT8_MAX];
+    const size_t n = c.refs.size();
+    for (size_t k = 0; k < n; ++k) leaf[k] = c.refs[k].prim;
+    std::sort(leaf, leaf + n, [](PrimRef a, PrimRef b) {
+      return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
+    });
+    std::copy_n(leaf, n, it);
     return uint32_t(first);
   }
 

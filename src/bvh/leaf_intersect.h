@@ -1,5 +1,5 @@
 // The leaf test of the BVH kinds: a leaf's references, sorted by geometry
-// when the tree is laid out (wide_layout.cpp), are tested one run of a
+// when the builder stores the leaf (builder.cpp), are tested one run of a
 // geometry at a time. A run checks the geometry's mask and time range and
 // finds the ray's motion segment once, then interpolates each primitive's
 // vertices with the same arithmetic as `intersectPrimitive`

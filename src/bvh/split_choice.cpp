@@ -47,14 +47,17 @@ Decision SplitChooser::choose(std::span<BuildRef> refs, const RefSetInfo& info, 
   if (count <= 1) return Decision();
   // The rejected temporal split goes to the children in their order: they
   // have the same range, and most try the same split again.
+  // Halves that cannot follow the references' moves are freed now.
   d.kind = Decision::Object;
-  if (!d.halves.alignedWith(refs)) d.halves.refs[0] = d.halves.refs[1] = {};
+  if (!d.halves.alignedWith(refs)) dropHalves(d);
   d.mid = partition(refs, info, split, d.sides, d.halves.refs);
-  if (!d.halves.alignedWith(refs)) {  // freed now
-    d.halves = TemporalHalves();
-    for (OwnedRefs& made : d.made) made = OwnedRefs();
-  }
+  if (!d.halves.alignedWith(refs)) dropHalves(d);  // the median moved them
   return d;
+}
+
+void SplitChooser::dropHalves(Decision& d) {
+  d.halves = TemporalHalves();
+  for (OwnedRefs& made : d.made) made = OwnedRefs();
 }
 
 ObjectSplit SplitChooser::objectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int depth) const {

@@ -88,6 +88,7 @@ class SplitChooser {
                           RefSetInfo sides[2], std::span<BuildRef> (&along)[2]);
   void temporalHalves(std::span<BuildRef> refs, TimeRange range, float time, const TemporalHalves& tried,
                       Decision& d);
+  static void dropHalves(Decision& d);
 
   const BuildSettings& s_;
   BuildBudget& budget_;

@@ -25,10 +25,7 @@ class Layout {
       if (from.isLeaf(i)) {
         out_.nodes[index].child[i] = uint32_t(out_.prims.size());
         const auto first = tree_.prims.begin() + std::ptrdiff_t(from.child[i]);
-        const auto at = out_.prims.insert(out_.prims.end(), first, first + from.count[i]);
-        std::sort(at, out_.prims.end(), [](PrimRef a, PrimRef b) {
-          return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
-        });
+        out_.prims.insert(out_.prims.end(), first, first + from.count[i]);
       } else if (!from.isEmpty(i)) {
         const uint32_t child = emit(from.child[i], depth + 1);
         out_.nodes[index].child[i] = child;

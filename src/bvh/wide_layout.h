@@ -1,9 +1,7 @@
 // The wide nodes as the parallel build makes them (children before their
 // parent, in whatever order the threads finish), and their layout into a
 // WideBvh: nodes and leaf primitives in one fixed depth-first order, so the
-// tree is bit-identical whatever the thread count of the build. Leaf
-// primitives are sorted by geometry (leaf_intersect.h tests one geometry's
-// run at a time).
+// tree is bit-identical whatever the thread count of the build.
 #pragma once
 
 #include <memory>
