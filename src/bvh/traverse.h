@@ -19,9 +19,10 @@ namespace mbrt::detail {
 template <int W>
 struct NodeRay {
   Pack<W> org[3], rdir[3], tnear, time;
+  float t, omt;      // the time, and 1 - t (motion nodes' grid weights)
   int nearPlane[3];  // 0: lower plane is the entry plane; 1: upper
 
-  NodeRay(const RayQuery& ray, float boxTime) {
+  NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
     for (int a = 0; a < 3; ++a) {
       org[a] = Pack<W>::set1(ray.org[a]);
       rdir[a] = Pack<W>::set1(ray.rdir[a]);
@@ -32,6 +33,23 @@ struct NodeRay {
   }
 };
 
+// The entry and exit planes of lanes [base, base + W) on one axis, at the
+// ray's time: float planes (static nodes) or decoded from the motion node's
+// grid (motion_node.h; `at`, `w0`, `w1` from gridAt).
+template <int W, int N>
+inline void lanePlanes(const WideNode<N, false>& node, int a, int base, int nearK, Pack<W>& lo, Pack<W>& hi) {
+  lo = Pack<W>::load(&node.plane[a][nearK][base]);
+  hi = Pack<W>::load(&node.plane[a][1 - nearK][base]);
+}
+template <int W, int N>
+inline void lanePlanes(const WideNode<N, true>& node, int a, int base, int nearK, Pack<W> at, Pack<W> w0, Pack<W> w1,
+                       Pack<W>& lo, Pack<W>& hi) {
+  using P = Pack<W>;
+  const int farK = 1 - nearK;
+  lo = fmadd(P::loadBytes(&node.q[a][2 + nearK][base]), w1, fmadd(P::loadBytes(&node.q[a][nearK][base]), w0, at));
+  hi = fmadd(P::loadBytes(&node.q[a][2 + farK][base]), w1, fmadd(P::loadBytes(&node.q[a][farK][base]), w0, at));
+}
+
 // Bit i set when lane i is hit within [tnear, tfar] (and, for a
 // spatial-temporal node, serves the ray's time); dist[i] = entry distance.
 template <int W, int N, bool Motion>
@@ -40,17 +58,17 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
   static_assert(N % W == 0);
   using P = Pack<W>;
   const P far = P::set1(tfar), inf = P::set1(kInf);
+  float at[3], w0[3], w1[3];
+  if constexpr (Motion) node.gridAt(r.t, r.omt, at, w0, w1);
   uint32_t mask = 0;
   for (int base = 0; base < N; base += W) {
     P tn = r.tnear, tf = inf;
     for (int a = 0; a < 3; ++a) {
-      const int nearK = r.nearPlane[a], farK = 1 - nearK;
-      P lo = P::load(&node.plane[a][nearK][base]);
-      P hi = P::load(&node.plane[a][farK][base]);
-      if constexpr (Motion) {
-        lo = fmadd(r.time, P::load(&node.plane[a][2 + nearK][base]), lo);
-        hi = fmadd(r.time, P::load(&node.plane[a][2 + farK][base]), hi);
-      }
+      P lo, hi;
+      if constexpr (Motion)
+        lanePlanes<W>(node, a, base, r.nearPlane[a], P::set1(at[a]), P::set1(w0[a]), P::set1(w1[a]), lo, hi);
+      else
+        lanePlanes<W>(node, a, base, r.nearPlane[a], lo, hi);
       tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
       tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
     }
@@ -60,6 +78,7 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
     mask |= hit << base;
     tn.store(dist + base);
   }
+  if constexpr (Motion) mask &= node.present;
   return mask;
 }
 
