@@ -17,6 +17,7 @@
 // linear bounds at every t in [0, 1].
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -74,6 +75,38 @@ struct alignas(32) WideNode<N, true> {
       w0[a] = step0[a] * omt;
       w1[a] = step1[a] * t;
     }
+  }
+  // Per axis, the terms of a slab distance (plane - org) * rdir at time t:
+  // A = (origin at t - org) * rdir, B0 = w0 * rdir, B1 = w1 * rdir, so
+  // that lane plane k is at distance A + q[k@0] * B0 + q[k@1] * B1
+  // (traverse.h). Entries [3] are scratch.
+  void distanceTerms(float t, float omt, const float (&org)[4], const float (&rdir)[4], float (&A)[4],
+                     float (&B0)[4], float (&B1)[4]) const {
+#ifdef MBRT_BVH_SSE
+    static_assert(offsetof(WideNode, step1) + 4 * sizeof(float) <= sizeof(WideNode));
+    const __m128 o = _mm_loadu_ps(origin), d = _mm_loadu_ps(drift);
+    // Lane 3 of each load is the next field's first float; step1's would be
+    // level bytes (perhaps a denormal, slow to multiply), so it is cleared.
+    const __m128 s0 = _mm_loadu_ps(step0);
+    const __m128 s1 = _mm_and_ps(_mm_loadu_ps(step1), _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)));
+    const __m128 tt = _mm_set1_ps(t), r = _mm_load_ps(rdir);
+#if defined(__FMA__)
+    const __m128 at = _mm_fmadd_ps(tt, d, o);
+#else
+    const __m128 at = _mm_add_ps(_mm_mul_ps(tt, d), o);
+#endif
+    _mm_store_ps(A, _mm_mul_ps(_mm_sub_ps(at, _mm_load_ps(org)), r));
+    _mm_store_ps(B0, _mm_mul_ps(_mm_mul_ps(s0, _mm_set1_ps(omt)), r));
+    _mm_store_ps(B1, _mm_mul_ps(_mm_mul_ps(s1, tt), r));
+#else
+    float at[3], w0[3], w1[3];
+    gridAt(t, omt, at, w0, w1);
+    for (int a = 0; a < 3; ++a) {
+      A[a] = (at[a] - org[a]) * rdir[a];
+      B0[a] = w0[a] * rdir[a];
+      B1[a] = w1[a] * rdir[a];
+    }
+#endif
   }
   // The box the node test sees at tree time t (same arithmetic).
   Box3f boxAt(int lane, float t) const {

@@ -19,11 +19,15 @@ namespace mbrt::detail {
 template <int W>
 struct NodeRay {
   Pack<W> org[3], rdir[3], tnear, time;
-  float t, omt;      // the time, and 1 - t (motion nodes' grid weights)
-  int nearPlane[3];  // 0: lower plane is the entry plane; 1: upper
+  float t, omt;            // the time, and 1 - t (motion nodes' grid weights)
+  alignas(16) float orgs[4], rdirs[4];  // org and rdir as scalars (motion nodes; [3] = 0)
+  int nearPlane[3];        // 0: lower plane is the entry plane; 1: upper
 
   NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
+    orgs[3] = rdirs[3] = 0.0f;
     for (int a = 0; a < 3; ++a) {
+      orgs[a] = ray.org[a];
+      rdirs[a] = ray.rdir[a];
       org[a] = Pack<W>::set1(ray.org[a]);
       rdir[a] = Pack<W>::set1(ray.rdir[a]);
       nearPlane[a] = std::signbit(ray.rdir[a]) ? 1 : 0;
@@ -33,21 +37,26 @@ struct NodeRay {
   }
 };
 
-// The entry and exit planes of lanes [base, base + W) on one axis, at the
-// ray's time: float planes (static nodes) or decoded from the motion node's
-// grid (motion_node.h; `at`, `w0`, `w1` from gridAt).
+// Slab distances (plane - org) * rdir of lanes [base, base + W) on one
+// axis, entry plane first. Static nodes: float planes. Motion nodes
+// (motion_node.h): the plane is at + q0 * w0 + q1 * w1 (gridAt), so its
+// distance is A + q0 * B0 + q1 * B1 with A = (at - org) * rdir and B = w *
+// rdir per node and axis: two FMAs per plane on the decoded levels, the
+// ray's subtraction and product folded into the node's scalars.
 template <int W, int N>
-inline void lanePlanes(const WideNode<N, false>& node, int a, int base, int nearK, Pack<W>& lo, Pack<W>& hi) {
-  lo = Pack<W>::load(&node.plane[a][nearK][base]);
-  hi = Pack<W>::load(&node.plane[a][1 - nearK][base]);
+inline void slabDistances(const WideNode<N, false>& node, const NodeRay<W>& r, int a, int base, Pack<W>& tn,
+                          Pack<W>& tf) {
+  const int nearK = r.nearPlane[a];
+  tn = (Pack<W>::load(&node.plane[a][nearK][base]) - r.org[a]) * r.rdir[a];
+  tf = (Pack<W>::load(&node.plane[a][1 - nearK][base]) - r.org[a]) * r.rdir[a];
 }
 template <int W, int N>
-inline void lanePlanes(const WideNode<N, true>& node, int a, int base, int nearK, Pack<W> at, Pack<W> w0, Pack<W> w1,
-                       Pack<W>& lo, Pack<W>& hi) {
+inline void slabDistances(const WideNode<N, true>& node, int a, int base, int nearK, Pack<W> A, Pack<W> B0,
+                          Pack<W> B1, Pack<W>& tn, Pack<W>& tf) {
   using P = Pack<W>;
   const int farK = 1 - nearK;
-  lo = fmadd(P::loadBytes(&node.q[a][2 + nearK][base]), w1, fmadd(P::loadBytes(&node.q[a][nearK][base]), w0, at));
-  hi = fmadd(P::loadBytes(&node.q[a][2 + farK][base]), w1, fmadd(P::loadBytes(&node.q[a][farK][base]), w0, at));
+  tn = fmadd(P::loadBytes(&node.q[a][2 + nearK][base]), B1, fmadd(P::loadBytes(&node.q[a][nearK][base]), B0, A));
+  tf = fmadd(P::loadBytes(&node.q[a][2 + farK][base]), B1, fmadd(P::loadBytes(&node.q[a][farK][base]), B0, A));
 }
 
 // Bit i set when lane i is hit within [tnear, tfar] (and, for a
@@ -58,21 +67,21 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
   static_assert(N % W == 0);
   using P = Pack<W>;
   const P far = P::set1(tfar), inf = P::set1(kInf);
-  float at[3], w0[3], w1[3];
-  if constexpr (Motion) node.gridAt(r.t, r.omt, at, w0, w1);
+  alignas(16) float A[4], B0[4], B1[4];
+  if constexpr (Motion) node.distanceTerms(r.t, r.omt, r.orgs, r.rdirs, A, B0, B1);
   uint32_t mask = 0;
   for (int base = 0; base < N; base += W) {
     P tn = r.tnear, tf = inf;
     for (int a = 0; a < 3; ++a) {
-      P lo, hi;
+      P dn, df;
       if constexpr (Motion)
-        lanePlanes<W>(node, a, base, r.nearPlane[a], P::set1(at[a]), P::set1(w0[a]), P::set1(w1[a]), lo, hi);
+        slabDistances<W>(node, a, base, r.nearPlane[a], P::set1(A[a]), P::set1(B0[a]), P::set1(B1[a]), dn, df);
       else
-        lanePlanes<W>(node, a, base, r.nearPlane[a], lo, hi);
-      tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
-      tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
+        slabDistances<W>(node, r, a, base, dn, df);
+      tn = vmax(dn, tn);
+      tf = vmin(df, tf);
     }
-    tf = vmin(robustFar(tf), far);
+    tf = vmin(robustFar(tf, Motion ? kRobustGammaGrid : kRobustGamma2), far);
     uint32_t hit = lessEqualMask(tn, tf);
     if (times) hit &= lessEqualMask(P::load(&times->t0[base]), r.time) & lessMask(r.time, P::load(&times->t1[base]));
     mask |= hit << base;
