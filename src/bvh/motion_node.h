@@ -17,9 +17,11 @@
 // linear bounds at every t in [0, 1].
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace mbrt::detail {
 
@@ -79,8 +81,13 @@ struct alignas(32) WideNode<N, true> {
   // Per axis, the terms of a slab distance (plane - org) * rdir at time t:
   // A = (origin at t - org) * rdir, B0 = w0 * rdir, B1 = w1 * rdir, so
   // that lane plane k is at distance A + q[k@0] * B0 + q[k@1] * B1
-  // (traverse.h). Entries [3] are scratch.
-  void distanceTerms(float t, float omt, const float (&org)[4], const float (&rdir)[4], float (&A)[4],
+  // (traverse.h). Entries [3] are scratch. Unless the ray is `tame`, a term
+  // that overflowed with a finite rdir becomes NaN, which the slab test
+  // ignores (the axis then culls nothing): A alone may overflow where the
+  // distance it sums to is finite. Tame rays cannot overflow: with
+  // coordinates within 2^60 (scene coordinates within 1e18, extrapolated
+  // ends within some 2^67) and |rdir| < 2^56, every term is below 2^125.
+  void distanceTerms(float t, float omt, const float (&org)[4], const float (&rdir)[4], bool tame, float (&A)[4],
                      float (&B0)[4], float (&B1)[4]) const {
 #ifdef MBRT_BVH_SSE
     static_assert(offsetof(WideNode, step1) + 4 * sizeof(float) <= sizeof(WideNode));
@@ -95,16 +102,32 @@ struct alignas(32) WideNode<N, true> {
 #else
     const __m128 at = _mm_add_ps(_mm_mul_ps(tt, d), o);
 #endif
-    _mm_store_ps(A, _mm_mul_ps(_mm_sub_ps(at, _mm_load_ps(org)), r));
-    _mm_store_ps(B0, _mm_mul_ps(_mm_mul_ps(s0, _mm_set1_ps(omt)), r));
-    _mm_store_ps(B1, _mm_mul_ps(_mm_mul_ps(s1, tt), r));
+    __m128 a = _mm_mul_ps(_mm_sub_ps(at, _mm_load_ps(org)), r);
+    __m128 b0 = _mm_mul_ps(_mm_mul_ps(s0, _mm_set1_ps(omt)), r);
+    __m128 b1 = _mm_mul_ps(_mm_mul_ps(s1, tt), r);
+    if (!tame) {
+      const __m128 inf = _mm_set1_ps(kInf), sign = _mm_set1_ps(-0.0f);
+      const __m128 finiteR = _mm_cmplt_ps(_mm_andnot_ps(sign, r), inf);
+      auto nanIfOverflowed = [&](__m128 x) {
+        return _mm_or_ps(x, _mm_and_ps(finiteR, _mm_cmpeq_ps(_mm_andnot_ps(sign, x), inf)));
+      };
+      a = nanIfOverflowed(a);
+      b0 = nanIfOverflowed(b0);
+      b1 = nanIfOverflowed(b1);
+    }
+    _mm_store_ps(A, a);
+    _mm_store_ps(B0, b0);
+    _mm_store_ps(B1, b1);
 #else
     float at[3], w0[3], w1[3];
     gridAt(t, omt, at, w0, w1);
+    const auto nanIfOverflowed = [&](float x, float r) {
+      return !tame && std::isinf(x) && !std::isinf(r) ? std::numeric_limits<float>::quiet_NaN() : x;
+    };
     for (int a = 0; a < 3; ++a) {
-      A[a] = (at[a] - org[a]) * rdir[a];
-      B0[a] = w0[a] * rdir[a];
-      B1[a] = w1[a] * rdir[a];
+      A[a] = nanIfOverflowed((at[a] - org[a]) * rdir[a], rdir[a]);
+      B0[a] = nanIfOverflowed(w0[a] * rdir[a], rdir[a]);
+      B1[a] = nanIfOverflowed(w1[a] * rdir[a], rdir[a]);
     }
 #endif
   }

@@ -21,13 +21,18 @@ struct NodeRay {
   Pack<W> org[3], rdir[3], tnear, time;
   float t, omt;            // the time, and 1 - t (motion nodes' grid weights)
   alignas(16) float orgs[4], rdirs[4];  // org and rdir as scalars (motion nodes; [3] = 0)
+  // |org| < 2^60 and |rdir| < 2^56: a motion node's distance terms cannot
+  // overflow (motion_node.h, distanceTerms).
+  bool tame;
   int nearPlane[3];        // 0: lower plane is the entry plane; 1: upper
 
   NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
     orgs[3] = rdirs[3] = 0.0f;
+    tame = true;
     for (int a = 0; a < 3; ++a) {
       orgs[a] = ray.org[a];
       rdirs[a] = ray.rdir[a];
+      tame = tame && std::fabs(ray.org[a]) < 0x1p60f && std::fabs(ray.rdir[a]) < 0x1p56f;
       org[a] = Pack<W>::set1(ray.org[a]);
       rdir[a] = Pack<W>::set1(ray.rdir[a]);
       nearPlane[a] = std::signbit(ray.rdir[a]) ? 1 : 0;
@@ -68,7 +73,7 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
   using P = Pack<W>;
   const P far = P::set1(tfar), inf = P::set1(kInf);
   alignas(16) float A[4], B0[4], B1[4];
-  if constexpr (Motion) node.distanceTerms(r.t, r.omt, r.orgs, r.rdirs, A, B0, B1);
+  if constexpr (Motion) node.distanceTerms(r.t, r.omt, r.orgs, r.rdirs, r.tame, A, B0, B1);
   uint32_t mask = 0;
   for (int base = 0; base < N; base += W) {
     P tn = r.tnear, tf = inf;
