@@ -19,11 +19,11 @@ namespace mbrt::detail {
 namespace {
 
 constexpr double kMarginUlps = 16.0;  // in 2^-24 of the grid's magnitude plus spans (bound: ~6 + 8)
-constexpr float kLevels = 255.0f;
-// Levels are computed in float from the planes' exact offsets to the origin
-// (at most 255 steps plus the margin): their error, some 2^-16 of a step, is
-// far below this slack, so floor(x - slack) never rounds a plane inwards.
-constexpr float kLevelSlack = 1e-3f;
+constexpr double kLevels = 255.0;
+// Levels are computed in double from the planes' exact offsets to the
+// origin: their error, some 2^-45 of a step, is far below this slack, so
+// floor(x - slack) never rounds a plane inwards.
+constexpr double kLevelSlack = 1e-3;
 
 // The next float towards +inf / -inf (x finite).
 float nextUp(float x) {
@@ -88,17 +88,18 @@ void quantizeLanes(const LBounds (&lanes)[N], uint32_t present, AxisGrid (&grid)
     const double origin[2] = {double(g.origin), double(g.origin) + double(g.drift)};
     g.step0 = stepFor(origin[0], hi[0] + margin);
     g.step1 = stepFor(origin[1], hi[1] + margin);
-    const float steps[2] = {g.step0, g.step1};
+    const double steps[2] = {double(g.step0), double(g.step1)};
     for (int e = 0; e < 2; ++e) {
       // Level 0 is below every lower plane and level 255 above every upper
-      // one (origin and step above), so clamping keeps planes outside.
-      const float inv = steps[e] > 0.0f ? 1.0f / steps[e] : 0.0f;
-      const float out = float(margin) * inv + kLevelSlack;
-      for (int l = 0; l < N; ++l) {  // offsets exact in double, levels in float
-        const float down = std::floor(float(double(planes[2 * e][l]) - origin[e]) * inv - out);
-        const float up = std::ceil(float(double(planes[2 * e + 1][l]) - origin[e]) * inv + out);
-        q[a][2 * e][l] = uint8_t(std::clamp(down, 0.0f, kLevels));
-        q[a][2 * e + 1][l] = uint8_t(std::clamp(up, 0.0f, kLevels));
+      // one (origin and step above), so clamping keeps planes outside. In
+      // double, 1 / step is finite even for a denormal step.
+      const double inv = steps[e] > 0.0 ? 1.0 / steps[e] : 0.0;
+      const double out = margin * inv + kLevelSlack;
+      for (int l = 0; l < N; ++l) {  // offsets exact in double
+        const double down = std::floor((double(planes[2 * e][l]) - origin[e]) * inv - out);
+        const double up = std::ceil((double(planes[2 * e + 1][l]) - origin[e]) * inv + out);
+        q[a][2 * e][l] = uint8_t(down > 0.0 ? std::min(down, kLevels) : 0.0);  // NaN: 0
+        q[a][2 * e + 1][l] = uint8_t(up < kLevels ? std::max(up, 0.0) : kLevels);  // NaN: 255
       }
     }
     for (int l = 0; l < N; ++l)
