@@ -341,13 +341,17 @@ TEST(Bvh, ScalarAndSimdNodeTestsAgree) {
   for (int trial = 0; trial < 2000; ++trial) {
     detail::WideNode<8, true> node;
     node.clear();
+    LBounds lanes[8];
+    uint32_t present = 0;
     for (int l = 0; l < 8; ++l) {
       if (rng() % 5 == 0) continue;  // empty lane
       Box3f b0(uniVec(rng, -1, 1)), b1(uniVec(rng, -1, 1));
       b0.extend(b0.lower + uniVec(rng, 0, 0.5f));
       b1.extend(b1.lower + uniVec(rng, 0, 0.5f));
-      node.setBounds(l, LBounds(b0, b1));
+      lanes[l] = LBounds(b0, b1);
+      present |= 1u << l;
     }
+    node.encode(lanes, present);
     Ray ray{uniVec(rng, -2, 2), 0.0f, uniVec(rng, -1, 1), uni(rng, 0.5f, 5.0f), uni(rng, 0, 1)};
     if (trial % 4 == 0) ray.dir[int(rng() % 3)] = 0.0f;
     detail::RayQuery q(ray);

@@ -763,3 +763,26 @@ TEST(FuzzRegression, FarOriginsOnEitherSideAgreeWithBrute) {
   // Embree traces from t = 0 on: half of these rays reach the scene at t < 0.
   expectAgreementWithBrute(scene, rays, {}, rays.size() / 10, 2e-3f);
 }
+
+// Directions with one component near the float range's end (1/rdir about
+// 1e38, where (at - org) * rdir alone overflows though the slab distance
+// does not; motion_node.h, distanceTerms) or zero, the others of order 1,
+// from origins around and inside a moving scene: every structure vs brute.
+TEST(BadRays, NearlyAxisParallelDirectionsAgreeWithBrute) {
+  const Scene scene = test::hostileRayScene();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 1200; ++i) {
+    Ray r;
+    r.org = {u(rng) * 3.0f, u(rng) * 3.0f, u(rng) * 3.0f};
+    const Vec3f target{u(rng), u(rng), u(rng)};
+    r.dir = target - r.org;
+    const int axis = i % 3;
+    const float tiny[] = {3e-39f, 6e-39f, 1e-38f, 2e-38f, 0.0f, 1e-30f};
+    r.dir[axis] = std::copysign(tiny[(i / 3) % 6], u(rng));
+    r.time = 0.5f * (u(rng) + 1.0f);
+    rays.push_back(r);
+  }
+  expectAgreementWithBrute(scene, rays, {}, 100);
+}

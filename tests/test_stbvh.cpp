@@ -271,3 +271,22 @@ TEST(Stbvh, ReusedTemporalSplitsGiveTheSameTrees) {
     EXPECT_EQ(bytes[0], bytes[1]) << name;
   }
 }
+
+// λ against leaves (BuildSettings::temporalLeafPenalty): a primitive moving
+// in a straight line over 5 segments stays one reference, since its linear
+// bounds are exact and a temporal split would only halve its segment count;
+// the same primitive moving out and back is split in time. (With λ_leaf = 1
+// the straight one is split too: leaf 5A against C_T A + 2.6A.)
+TEST(Stbvh, StraightMotionKeepsLeavesWhole) {
+  for (bool curved : {false, true}) {
+    Scene scene;
+    std::vector<float> path;
+    for (int k = 0; k < 6; ++k) path.push_back(curved ? 4.0f * std::sin(float(k) / 5.0f * 3.14159265f) : float(k));
+    addLine(scene, path, 0.5f);
+    BuildOptions o;
+    o.kind = AccelKind::Stbvh;
+    const AccelStats st = Accel::build(scene, o)->stats();
+    if (curved) EXPECT_GT(st.references, 1u);
+    else EXPECT_EQ(st.references, 1u);
+  }
+}

@@ -49,11 +49,12 @@ class BvhInterp final : public WideBvhStructure<N, true> {
 
  private:
   LBounds refitNode(uint32_t index, bool& ok) {
-    LBounds all;
+    LBounds all, lanes[N];
+    uint32_t present = 0;
     for (int i = 0; i < N; ++i) {
-      auto& node = bvh_.nodes[index];
+      const auto& node = bvh_.nodes[index];
       if (node.isEmpty(i)) continue;
-      LBounds b;
+      LBounds& b = lanes[i];
       if (node.isLeaf(i)) {
         for (uint32_t k = 0; k < node.count[i]; ++k)
           b.extend(linearBounds(ctx_, bvh_.prims[node.child[i] + k], {0.0f, 1.0f}));
@@ -61,9 +62,10 @@ class BvhInterp final : public WideBvhStructure<N, true> {
       } else {
         b = refitNode(node.child[i], ok);
       }
-      bvh_.nodes[index].setBounds(i, b);
+      present |= 1u << i;
       all.extend(b);
     }
+    bvh_.nodes[index].encode(lanes, present);
     return all;
   }
 

@@ -256,28 +256,48 @@ std::vector<Bin> fillBinsParallel(std::span<const BuildRef> refs, const ObjectSp
       });
 }
 
+// Two references (a third of the nodes the SAH sees): on the first axis
+// where their bins differ, each goes to its own side. The sweep would find
+// exactly this split, with the same cost and tie-breaks, after filling and
+// sweeping the bins.
+ObjectSplit splitPair(std::span<const BuildRef> refs, const ObjectSplit (&axes)[3]) {
+  const BinMap map(axes);
+  int bins[2][3];
+  map.binsOf(centroidOf(refs[0]), bins[0]);
+  map.binsOf(centroidOf(refs[1]), bins[1]);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (axes[axis].axis < 0 || bins[0][axis] == bins[1][axis]) continue;
+    const int left = bins[0][axis] < bins[1][axis] ? 0 : 1;
+    BinBounds lb, rb;
+    lb.extend(refs[left].bounds);
+    rb.extend(refs[1 - left].bounds);
+    const float rightCost = rb.mbsahArea() * float(uint64_t(refs[1 - left].active));
+    const float cost = lb.mbsahArea() * float(uint64_t(refs[left].active)) + rightCost;
+    if (!(cost < kInf)) break;  // every axis has this cost: no split beats kInf
+    ObjectSplit split = axes[axis];
+    split.bin = bins[left][axis] + 1;
+    split.cost = cost;
+    return split;
+  }
+  return ObjectSplit();
+}
+
 // The best split of one axis's bins, if it beats `best`.
-void sweepAxis(const Bin* ab, const ObjectSplit& axis, size_t total, int leafBlock, float* rightCost,
-               float* rightPrim, ObjectSplit& best) {
+void sweepAxis(const Bin* ab, const ObjectSplit& axis, size_t total, float* rightCost, ObjectSplit& best) {
   const int numBins = axis.numBins;
   // Sweep from the right: cost of bins [i, numBins).
   BinBounds acc;
   uint64_t active = 0;
-  size_t rightCount = 0;
   // Empty bins change nothing: they repeat the costs of their neighbour
   // (small nodes leave most of the bins empty).
-  float cost = 0.0f, prim = 0.0f;
+  float cost = 0.0f;
   for (int i = numBins - 1; i > 0; --i) {
     if (ab[i].count != 0 || i + 1 == numBins) {
       acc.extend(ab[i].bounds);
       active += ab[i].active;
-      rightCount += ab[i].count;
-      const float area = acc.mbsahArea();
-      cost = area * float(active);
-      prim = area * leafBlocks(rightCount, leafBlock);
+      cost = acc.mbsahArea() * float(active);
     }
     rightCost[i] = cost;
-    rightPrim[i] = prim;
   }
   // Sweep from the left: split between bin i-1 and bin i.
   acc = BinBounds();
@@ -297,7 +317,6 @@ void sweepAxis(const Bin* ab, const ObjectSplit& axis, size_t total, int leafBlo
       best = axis;
       best.bin = i;
       best.cost = c;
-      best.primCost = area * leafBlocks(leftCount, leafBlock) + rightPrim[i];
     }
   }
 }
@@ -305,7 +324,7 @@ void sweepAxis(const Bin* ab, const ObjectSplit& axis, size_t total, int leafBlo
 }  // namespace
 
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int maxBins,
-                            TimeRange /*range: bounds are local to it*/, int leafBlock) {
+                            TimeRange /*range: bounds are local to it*/) {
   const int numBins = adaptiveBins(maxBins, refs.size());
   // Binning transform per axis; axes where all keys coincide are skipped.
   ObjectSplit axes[3];
@@ -321,6 +340,7 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
   }
   ObjectSplit best;
   if (!any) return best;
+  if (refs.size() == 2) return splitPair(refs, axes);
   // One pass over the references fills the bins of all three axes.
   const size_t nb = static_cast<size_t>(numBins);
   const bool serial = refs.size() < kParallelRefs;
@@ -329,10 +349,9 @@ ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& in
   if (serial) fillBins(refs, axes, nb, small.data());
   else large = fillBinsParallel(refs, axes, nb);
   const Bin* bins = serial ? small.data() : large.data();
-  float rightCost[kMaxBins], rightPrim[kMaxBins];
+  float rightCost[kMaxBins];
   for (int axis = 0; axis < 3; ++axis)
-    if (axes[axis].axis >= 0)
-      sweepAxis(bins + size_t(axis) * nb, axes[axis], refs.size(), leafBlock, rightCost, rightPrim, best);
+    if (axes[axis].axis >= 0) sweepAxis(bins + size_t(axis) * nb, axes[axis], refs.size(), rightCost, best);
   return best;
 }
 

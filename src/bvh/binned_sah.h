@@ -25,7 +25,6 @@ struct ObjectSplit {
   int axis = -1;          // -1: no valid split (all keys coincide)
   int bin = 0;            // references in bins [0, bin) go left
   float cost = kInf;      // areaL*countL + areaR*countR (unnormalised), active segments
-  float primCost = kInf;  // the same split costed with reference counts
   float origin = 0.0f;    // binning transform of the axis
   float scale = 0.0f;
   int numBins = 0;
@@ -36,14 +35,10 @@ struct ObjectSplit {
 };
 
 // Best split over all three axes; ties go to the lower axis, then lower bin.
-// primCost counts references in blocks of `leafBlock` (ceil(n / leafBlock)).
 // Bins per axis: 8 + 10% of the references, at most `maxBins` (Embree
 // scales them likewise, from 4 + 5%).
 ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int maxBins,
-                            TimeRange range, int leafBlock = 1);
-
-// References in blocks of `block`, as a leaf cost.
-inline float leafBlocks(uint64_t count, int block) { return float((count + uint64_t(block) - 1) / uint64_t(block)); }
+                            TimeRange range);
 
 // Moves the left side to the front; returns its size. `sides` gets the
 // summaries of the left and right references (as summarize gives them).

@@ -212,8 +212,10 @@ class Driver {
     bool timed = false;
     for (int i = 0; i < n; ++i) timed |= !(lanes[i]->range == range);
     if (Motion && timed) node.times = storeTimes(lanes, n);
+    LBounds bounds[N];
+    for (int i = 0; i < n; ++i) bounds[i] = globalBounds(*lanes[i]);
+    node.encode(bounds, (1u << n) - 1u);
     for (int i = 0; i < n; ++i) {
-      node.setBounds(i, globalBounds(*lanes[i]));
       node.child[i] = child[i];
       node.count[i] = lanes[i]->inner() ? 0 : uint8_t(lanes[i]->refs.size());
     }

@@ -34,18 +34,14 @@ struct BuildSettings {
   int numBins = 32;
   float traversalCost = 1.0f;  // C_T; C_I = 1
   TimeRange range;             // the tree's time range (tree parameter)
-  size_t parallelThreshold = 4096;  // subtrees larger than this run as tasks
+  size_t parallelThreshold = 1024;  // subtrees larger than this run as tasks (Embree: 1024)
   int maxBinnedDepth = 48;          // deeper: median splits (bounds the depth)
   const TemporalSource* temporal = nullptr;  // null: no temporal splits
-  // Leaf-or-split in reference counts instead of MBSAH segment counts (the
-  // choice between object and temporal splits stays MBSAH): our leaf test
-  // costs one intersection per primitive whatever its segment count, so
-  // leaves may keep several segments of a primitive (docs/stbvh.md).
-  bool primitiveLeafCost = false;
-  // With primitiveLeafCost: references counted in blocks of this many, so a
-  // leaf of 2 costs what a leaf of 1 does (Embree counts blocks of 4): fewer,
-  // fuller leaves and fewer nodes for a few more intersections per ray.
-  int leafBlock = 1;
+  // λ against a leaf: a temporal split replaces a leaf only when this many
+  // times its cost, plus C_T, still beats the leaf (STBVH §3.2 penalises
+  // temporal splits by λ = 1.25 against object splits for the references
+  // they duplicate; docs/stbvh.md, "Fifth pass").
+  float temporalLeafPenalty = 1.0f;
   // A temporal split an ancestor tried and rejected is reused by its
   // object-split children (split_choice.h); off only to check, in tests,
   // that the trees are those of recomputing every trial.

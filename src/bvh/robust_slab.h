@@ -14,9 +14,15 @@ inline constexpr float kRobustGamma2 = 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f *
 inline constexpr float kRobustFarScale = 1.0f + kRobustGamma2;   // for t >= 0
 inline constexpr float kRobustFarShrink = 1.0f - kRobustGamma2;  // for t < 0
 
+// Motion nodes (motion_node.h) evaluate (plane - org) * rdir as
+// A + q0 * B0 + q1 * B1 with per-node scalars A, B0, B1 (traverse.h): five
+// roundings relative to the distance instead of three (the rest, relative
+// to the node's grid, is inside the margin its planes were moved out by).
+inline constexpr float kRobustGammaGrid = 2.0f * (5.0f * 0x1p-24f) / (1.0f - 5.0f * 0x1p-24f);
+
 template <int W>
-inline Pack<W> robustFar(Pack<W> tf) {
-  return vmax(tf * Pack<W>::set1(kRobustFarScale), tf * Pack<W>::set1(kRobustFarShrink));
+inline Pack<W> robustFar(Pack<W> tf, float gamma = kRobustGamma2) {
+  return vmax(tf * Pack<W>::set1(1.0f + gamma), tf * Pack<W>::set1(1.0f - gamma));
 }
 
 // The same for one distance and any relative slack (infinities stay put).

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <immintrin.h>
@@ -36,6 +37,7 @@ template <>
 struct Pack<1> {
   float v;
   static Pack load(const float* p) { return {*p}; }
+  static Pack loadBytes(const uint8_t* p) { return {float(*p)}; }  // W unsigned bytes as floats
   static Pack set1(float x) { return {x}; }
   friend Pack fmadd(Pack a, Pack b, Pack c) { return {madd(a.v, b.v, c.v)}; }
   friend Pack operator-(Pack a, Pack b) { return {a.v - b.v}; }
@@ -52,6 +54,13 @@ template <>
 struct Pack<4> {
   __m128 v;
   static Pack load(const float* p) { return {_mm_load_ps(p)}; }
+  static Pack loadBytes(const uint8_t* p) {
+    int32_t word;
+    std::memcpy(&word, p, 4);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i bytes = _mm_cvtsi32_si128(word);
+    return {_mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(bytes, zero), zero))};
+  }
   static Pack set1(float x) { return {_mm_set1_ps(x)}; }
   friend Pack fmadd(Pack a, Pack b, Pack c) {
 #if defined(__FMA__)
@@ -75,6 +84,9 @@ template <>
 struct Pack<8> {
   __m256 v;
   static Pack load(const float* p) { return {_mm256_load_ps(p)}; }
+  static Pack loadBytes(const uint8_t* p) {
+    return {_mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))))};
+  }
   static Pack set1(float x) { return {_mm256_set1_ps(x)}; }
   friend Pack fmadd(Pack a, Pack b, Pack c) { return {_mm256_fmadd_ps(a.v, b.v, c.v)}; }
   friend Pack operator-(Pack a, Pack b) { return {_mm256_sub_ps(a.v, b.v)}; }

@@ -23,18 +23,15 @@ Decision SplitChooser::choose(std::span<BuildRef> refs, const RefSetInfo& info, 
   if (s_.temporal && depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
       temporalSplitTime(refs, range, *s_.temporal, time)) {
     temporalHalves(refs, range, time, tried, d);
-    temporal = temporalSplitCost(d.halves.refs[0], d.halves.refs[1], range, time, s_.leafBlock);
+    temporal = temporalSplitCost(d.halves.refs[0], d.halves.refs[1], range, time);
     if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
     else temporal = TemporalSplit();
   }
-  // Leaf or split: MBSAH with segment counts, or (primitiveLeafCost) the
-  // cost of our leaves, which test a primitive once whatever its segments.
-  float splitCost = s_.traversalCost * area + best, leafTest = leafCost;
-  if (s_.primitiveLeafCost) {
-    splitCost = s_.traversalCost * area + (temporal.valid() ? temporal.primCost : split.primCost);
-    leafTest = area * leafBlocks(count, s_.leafBlock);
-  }
-  if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafTest)) {
+  // Leaf or split (MBSAH); a temporal split also pays its penalty λ_leaf
+  // for the references it duplicates.
+  const float splitCost =
+      s_.traversalCost * area + (temporal.valid() ? s_.temporalLeafPenalty * temporal.cost : best);
+  if (count <= size_t(s_.maxLeafSize) && !(splitCost < leafCost)) {
     Decision leaf;
     leaf.split = split;
     return leaf;
@@ -62,7 +59,7 @@ void SplitChooser::dropHalves(Decision& d) {
 
 ObjectSplit SplitChooser::objectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int depth) const {
   if (depth >= s_.maxBinnedDepth || refs.size() <= 1) return ObjectSplit();
-  return findObjectSplit(refs, info, s_.numBins, {}, s_.leafBlock);
+  return findObjectSplit(refs, info, s_.numBins, {});
 }
 
 size_t SplitChooser::partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,

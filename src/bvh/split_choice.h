@@ -1,7 +1,6 @@
 // The SAH's choice for one node of the BVH family (STBVH §3.2-3.3,
 // Algorithm 1): the best binned object split, a temporal split when the
-// object split is poor, or a leaf, by the MBSAH (or, with
-// BuildSettings::primitiveLeafCost, by our leaves' reference counts). Knows
+// object split is poor, or a leaf, by the MBSAH (segment counts). Knows
 // references and costs, not trees: builder.h makes the nodes.
 #pragma once
 

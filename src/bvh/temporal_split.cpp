@@ -69,29 +69,27 @@ bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const Te
 }
 
 TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const BuildRef> right, TimeRange range,
-                                float time, int leafBlock) {
+                                float time) {
   const TimeRange halves[2] = {{range.lo, time}, {time, range.hi}};
   const std::span<const BuildRef> refs[2] = {left, right};
   TemporalSplit split;
   split.time = time;
-  float cost = 0.0f, primCost = 0.0f;
+  float cost = 0.0f;
   for (int i = 0; i < 2; ++i) {
     const RefSetInfo& info = split.sides[i] = summarize(refs[i]);
     if (info.active == 0) continue;
     const float p = mbsahArea(info.bounds) * (halves[i].size() / range.size());
     cost += p * float(info.active);
-    primCost += p * leafBlocks(refs[i].size(), leafBlock);
   }
   split.cost = cost;
-  split.primCost = primCost;
   return split;
 }
 
 TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
-                                    const TemporalSource& source, int leafBlock) {
+                                    const TemporalSource& source) {
   std::vector<BuildRef> left, right;
   splitTemporal(refs, range, time, source, left, right);
-  return temporalSplitCost(left, right, range, time, leafBlock);
+  return temporalSplitCost(left, right, range, time);
 }
 
 void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, const TemporalSource& source,

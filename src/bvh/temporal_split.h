@@ -39,7 +39,6 @@ class TemporalSource {
 struct TemporalSplit {
   float time = 0.0f;
   float cost = kInf;  // unnormalised, as ObjectSplit::cost
-  float primCost = kInf;  // the same costed with reference counts
   RefSetInfo sides[2];    // summaries of the halves' references (for their nodes)
   bool valid() const { return cost < kInf; }
 };
@@ -50,15 +49,14 @@ struct TemporalSplit {
 bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const TemporalSource& source, float& time);
 
 // Cost (MBSAH, §3.2) of the split at `time` whose halves' references are
-// `left` and `right` (splitTemporal); primCost counts references in blocks
-// of `leafBlock`. The builder makes the halves once and keeps them when the
+// `left` and `right` (splitTemporal). The builder makes the halves once and keeps them when the
 // split is taken (each half's bounds are recomputed only once, Fig. 4).
 TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const BuildRef> right, TimeRange range,
-                                float time, int leafBlock = 1);
+                                float time);
 
 // splitTemporal, then temporalSplitCost.
 TemporalSplit evaluateTemporalSplit(std::span<const BuildRef> refs, TimeRange range, float time,
-                                    const TemporalSource& source, int leafBlock = 1);
+                                    const TemporalSource& source);
 
 // The references of both halves [range.lo, time) and [time, range.hi), in
 // the order of `refs`; references not alive in a half are left out of it.

@@ -19,10 +19,20 @@ namespace mbrt::detail {
 template <int W>
 struct NodeRay {
   Pack<W> org[3], rdir[3], tnear, time;
-  int nearPlane[3];  // 0: lower plane is the entry plane; 1: upper
+  float t, omt;            // the time, and 1 - t (motion nodes' grid weights)
+  alignas(16) float orgs[4], rdirs[4];  // org and rdir as scalars (motion nodes; [3] = 0)
+  // |org| < 2^60 and |rdir| < 2^56: a motion node's distance terms cannot
+  // overflow (motion_node.h, distanceTerms).
+  bool tame;
+  int nearPlane[3];        // 0: lower plane is the entry plane; 1: upper
 
-  NodeRay(const RayQuery& ray, float boxTime) {
+  NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
+    orgs[3] = rdirs[3] = 0.0f;
+    tame = true;
     for (int a = 0; a < 3; ++a) {
+      orgs[a] = ray.org[a];
+      rdirs[a] = ray.rdir[a];
+      tame = tame && std::fabs(ray.org[a]) < 0x1p60f && std::fabs(ray.rdir[a]) < 0x1p56f;
       org[a] = Pack<W>::set1(ray.org[a]);
       rdir[a] = Pack<W>::set1(ray.rdir[a]);
       nearPlane[a] = std::signbit(ray.rdir[a]) ? 1 : 0;
@@ -32,6 +42,28 @@ struct NodeRay {
   }
 };
 
+// Slab distances (plane - org) * rdir of lanes [base, base + W) on one
+// axis, entry plane first. Static nodes: float planes. Motion nodes
+// (motion_node.h): the plane is at + q0 * w0 + q1 * w1 (gridAt), so its
+// distance is A + q0 * B0 + q1 * B1 with A = (at - org) * rdir and B = w *
+// rdir per node and axis: two FMAs per plane on the decoded levels, the
+// ray's subtraction and product folded into the node's scalars.
+template <int W, int N>
+inline void slabDistances(const WideNode<N, false>& node, const NodeRay<W>& r, int a, int base, Pack<W>& tn,
+                          Pack<W>& tf) {
+  const int nearK = r.nearPlane[a];
+  tn = (Pack<W>::load(&node.plane[a][nearK][base]) - r.org[a]) * r.rdir[a];
+  tf = (Pack<W>::load(&node.plane[a][1 - nearK][base]) - r.org[a]) * r.rdir[a];
+}
+template <int W, int N>
+inline void slabDistances(const WideNode<N, true>& node, int a, int base, int nearK, Pack<W> A, Pack<W> B0,
+                          Pack<W> B1, Pack<W>& tn, Pack<W>& tf) {
+  using P = Pack<W>;
+  const int farK = 1 - nearK;
+  tn = fmadd(P::loadBytes(&node.q[a][2 + nearK][base]), B1, fmadd(P::loadBytes(&node.q[a][nearK][base]), B0, A));
+  tf = fmadd(P::loadBytes(&node.q[a][2 + farK][base]), B1, fmadd(P::loadBytes(&node.q[a][farK][base]), B0, A));
+}
+
 // Bit i set when lane i is hit within [tnear, tfar] (and, for a
 // spatial-temporal node, serves the ray's time); dist[i] = entry distance.
 template <int W, int N, bool Motion>
@@ -40,26 +72,27 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
   static_assert(N % W == 0);
   using P = Pack<W>;
   const P far = P::set1(tfar), inf = P::set1(kInf);
+  alignas(16) float A[4], B0[4], B1[4];
+  if constexpr (Motion) node.distanceTerms(r.t, r.omt, r.orgs, r.rdirs, r.tame, A, B0, B1);
   uint32_t mask = 0;
   for (int base = 0; base < N; base += W) {
     P tn = r.tnear, tf = inf;
     for (int a = 0; a < 3; ++a) {
-      const int nearK = r.nearPlane[a], farK = 1 - nearK;
-      P lo = P::load(&node.plane[a][nearK][base]);
-      P hi = P::load(&node.plane[a][farK][base]);
-      if constexpr (Motion) {
-        lo = fmadd(r.time, P::load(&node.plane[a][2 + nearK][base]), lo);
-        hi = fmadd(r.time, P::load(&node.plane[a][2 + farK][base]), hi);
-      }
-      tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
-      tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
+      P dn, df;
+      if constexpr (Motion)
+        slabDistances<W>(node, a, base, r.nearPlane[a], P::set1(A[a]), P::set1(B0[a]), P::set1(B1[a]), dn, df);
+      else
+        slabDistances<W>(node, r, a, base, dn, df);
+      tn = vmax(dn, tn);
+      tf = vmin(df, tf);
     }
-    tf = vmin(robustFar(tf), far);
+    tf = vmin(robustFar(tf, Motion ? kRobustGammaGrid : kRobustGamma2), far);
     uint32_t hit = lessEqualMask(tn, tf);
     if (times) hit &= lessEqualMask(P::load(&times->t0[base]), r.time) & lessMask(r.time, P::load(&times->t1[base]));
     mask |= hit << base;
     tn.store(dist + base);
   }
+  if constexpr (Motion) mask &= node.present;
   return mask;
 }
 

@@ -1,13 +1,12 @@
 // N-wide BVH nodes, structure of arrays (STBVH §4: nodes store linear bounds
-// per child). Motion nodes store the box at t=0 (b0) and d = b1 - b0 per
-// plane, so the box at ray time t is one FMA per plane: lo = fma(t, dlo, lo0).
-// Static nodes (the `frozen` kind) store one box. Empty lanes have
-// lower = +inf, upper = -inf, d = 0: every slab test misses them.
+// per child). Motion nodes (motion_node.h) store them quantised on a grid
+// that moves with the node; static nodes (the `frozen` kind) store one float
+// box per lane, empty lanes with lower = +inf, upper = -inf, which every slab
+// test misses.
 //
 // Spatial-temporal nodes (STBVH §3.3) also give each lane a time range
 // [t0, t1): `times` indexes the tree's LaneTimes table (kNoTimes: every lane
-// serves the whole range of the node). The index lives in the node's
-// alignment padding, so plain nodes cost no byte more.
+// serves the whole range of the node).
 #pragma once
 
 #include <cstdint>
@@ -18,11 +17,13 @@
 
 namespace mbrt::detail {
 
+// Static nodes (Motion = false, the `frozen` kind): one float box per lane.
+// Motion nodes are the specialisation in motion_node.h.
 template <int N, bool Motion>
 struct alignas(32) WideNode {
-  static constexpr int kPlanes = Motion ? 4 : 2;  // lo, hi[, dlo, dhi]
-  // plane[axis][k][lane]: k = 0 lower, 1 upper, 2 lower delta, 3 upper delta.
-  float plane[3][kPlanes][N];
+  static_assert(!Motion, "motion nodes: motion_node.h");
+  // plane[axis][k][lane]: k = 0 lower, 1 upper.
+  float plane[3][2][N];
   uint32_t child[N];  // inner: node index; leaf: first reference
   uint8_t count[N];   // 0: inner node (or empty lane); > 0: leaf size
   uint32_t times;     // LaneTimes index, or kNoTimes
@@ -39,43 +40,24 @@ struct alignas(32) WideNode {
   }
   bool hasTimes() const { return times != kNoTimes; }
   bool isLeaf(int lane) const { return count[lane] != 0; }
-  // Only clear() makes +inf planes (stored bounds are finite; extrapolated
-  // ones may be inverted at t = 0, so lower > upper does not mean empty).
   bool isEmpty(int lane) const { return count[lane] == 0 && plane[0][0][lane] == kInf; }
 
-  // Global linear bounds (box at t=0 and t=1); static nodes keep b0.
-  void setBounds(int lane, const LBounds& b) {
-    for (int a = 0; a < 3; ++a) {
-      plane[a][0][lane] = b.b0.lower[a];
-      plane[a][1][lane] = b.b0.upper[a];
-      if constexpr (Motion) {
-        plane[a][2][lane] = b.b1.lower[a] - b.b0.lower[a];
-        plane[a][3][lane] = b.b1.upper[a] - b.b0.upper[a];
-      }
-    }
+  // Sets the lanes with a bit in `present` to their boxes (b0; a static
+  // node has no motion).
+  void encode(const LBounds (&lanes)[N], uint32_t present) {
+    for (int lane = 0; lane < N; ++lane)
+      if (present >> lane & 1u)
+        for (int a = 0; a < 3; ++a) {
+          plane[a][0][lane] = lanes[lane].b0.lower[a];
+          plane[a][1][lane] = lanes[lane].b0.upper[a];
+        }
   }
-  // The linear bounds as stored (b1 = b0 + d).
-  LBounds bounds(int lane) const {
-    LBounds b;
-    for (int a = 0; a < 3; ++a) {
-      b.b0.lower[a] = plane[a][0][lane];
-      b.b0.upper[a] = plane[a][1][lane];
-      b.b1.lower[a] = Motion ? plane[a][0][lane] + plane[a][2][lane] : plane[a][0][lane];
-      b.b1.upper[a] = Motion ? plane[a][1][lane] + plane[a][3][lane] : plane[a][1][lane];
-    }
-    return b;
-  }
-  // The box the node test sees at tree time t (same arithmetic).
-  Box3f boxAt(int lane, float t) const {
+  LBounds bounds(int lane) const { return LBounds(boxAt(lane, 0.0f), boxAt(lane, 0.0f)); }
+  Box3f boxAt(int lane, float) const {
     Box3f b;
     for (int a = 0; a < 3; ++a) {
-      if constexpr (Motion) {
-        b.lower[a] = madd(t, plane[a][2][lane], plane[a][0][lane]);
-        b.upper[a] = madd(t, plane[a][3][lane], plane[a][1][lane]);
-      } else {
-        b.lower[a] = plane[a][0][lane];
-        b.upper[a] = plane[a][1][lane];
-      }
+      b.lower[a] = plane[a][0][lane];
+      b.upper[a] = plane[a][1][lane];
     }
     return b;
   }
@@ -93,3 +75,5 @@ struct alignas(32) LaneTimes {
 };
 
 }  // namespace mbrt::detail
+
+#include "bvh/motion_node.h"
