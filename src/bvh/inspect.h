@@ -15,7 +15,7 @@ namespace mbrt::detail {
 
 struct LaneView {
   TimeRange range;                             // global times the lane serves
-  std::function<Box3f(float globalTime)> box;  // as the node test computes it
+  std::function<Box3f(float globalTime)> box;  // as the node stores it (decoded)
   std::span<const PrimRef> below;              // references under the lane
 };
 

@@ -25,20 +25,11 @@
 
 namespace mbrt::detail {
 
-// Grid of one axis of a motion node.
-struct AxisGrid {
-  float origin, drift, step0, step1;
-};
-
-// The lanes' bounds of one node, quantised; `present` has a bit per lane
-// that holds bounds (lanes with neither bounds nor children are empty).
-template <int N>
-void quantizeLanes(const LBounds (&lanes)[N], uint32_t present, AxisGrid (&grid)[3], uint8_t (&q)[3][4][N]);
-
 template <int N>
 struct alignas(32) WideNode<N, true> {
   static_assert(N <= 8, "one byte of lane bits");
-  float origin[3], drift[3], step0[3], step1[3];  // AxisGrid per axis
+  // Per axis: the grid's origin at t = 0, its drift to t = 1, its steps.
+  float origin[3], drift[3], step0[3], step1[3];
   // q[axis][k][lane]: k = 0 lower at t = 0, 1 upper at t = 0, 2 lower at t = 1, 3 upper at t = 1.
   uint8_t q[3][4][N];
   uint32_t child[N];  // inner: node index; leaf: first reference
@@ -56,21 +47,11 @@ struct alignas(32) WideNode<N, true> {
   bool isEmpty(int lane) const { return !(present >> lane & 1u); }
 
   // Sets the bounds of every lane at once (the grid depends on all of them);
-  // lanes without a bit in `present` become empty.
-  void encode(const LBounds (&lanes)[N], uint32_t lanesPresent) {
-    AxisGrid grid[3];
-    quantizeLanes<N>(lanes, lanesPresent, grid, q);
-    for (int a = 0; a < 3; ++a) {
-      origin[a] = grid[a].origin;
-      drift[a] = grid[a].drift;
-      step0[a] = grid[a].step0;
-      step1[a] = grid[a].step1;
-    }
-    present = uint8_t(lanesPresent);
-  }
+  // lanes without a bit in `lanesPresent` become empty (motion_node.cpp).
+  void encode(const LBounds (&lanes)[N], uint32_t lanesPresent);
 
   // Per axis, the grid at time t (omt = 1 - t): its origin and the weights
-  // of the t = 0 and t = 1 steps. The node test uses the same arithmetic.
+  // of the t = 0 and t = 1 steps.
   void gridAt(float t, float omt, float (&at)[3], float (&w0)[3], float (&w1)[3]) const {
     for (int a = 0; a < 3; ++a) {
       at[a] = madd(t, drift[a], origin[a]);
@@ -131,7 +112,8 @@ struct alignas(32) WideNode<N, true> {
     }
 #endif
   }
-  // The box the node test sees at tree time t (same arithmetic).
+  // The decoded box at tree time t, in float: the planes the node test's
+  // distances (distanceTerms) measure, evaluated as positions.
   Box3f boxAt(int lane, float t) const {
     float at[3], w0[3], w1[3];
     gridAt(t, 1.0f - t, at, w0, w1);

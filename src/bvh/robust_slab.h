@@ -11,8 +11,6 @@
 namespace mbrt::detail {
 
 inline constexpr float kRobustGamma2 = 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
-inline constexpr float kRobustFarScale = 1.0f + kRobustGamma2;   // for t >= 0
-inline constexpr float kRobustFarShrink = 1.0f - kRobustGamma2;  // for t < 0
 
 // Motion nodes (motion_node.h) evaluate (plane - org) * rdir as
 // A + q0 * B0 + q1 * B1 with per-node scalars A, B0, B1 (traverse.h): five
