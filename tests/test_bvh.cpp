@@ -7,6 +7,8 @@
 #include <random>
 #include <set>
 
+#include "bvh/build_wide.h"
+#include "bvh/bvh_structure.h"
 #include "bvh/inspect.h"
 #include "bvh/traverse.h"
 #include "core/scene_context.h"
@@ -405,13 +407,82 @@ TEST(Bvh, LeavesMixingGeometriesHonourMasksAndFilters) {
   BuildOptions bo;
   bo.kind = AccelKind::Brute;
   auto brute = Accel::build(*s, bo);
-  for (AccelKind kind : {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Stbvh})
-    for (int width : {4, 8}) {
-      BuildOptions o;
-      o.kind = kind;
-      o.branching = width;
-      o.maxLeafSize = 8;
-      auto accel = Accel::build(*s, o);
-      expectAgreement(*accel, *brute, rays, ts.name + " " + std::string(toString(kind)) + " N=" + std::to_string(width));
+  // Leaves of one reference are kept in their node (wide_node.h,
+  // kInlineLeaf) when of the node's most common geometry: with leaf size 1
+  // most leaves are, across geometries, masks, filters and instances.
+  for (AccelKind kind : {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Stbvh, AccelKind::Frozen})
+    for (int width : {4, 8})
+      for (int leafSize : {1, 8}) {
+        BuildOptions o;
+        o.kind = kind;
+        o.branching = width;
+        o.maxLeafSize = leafSize;
+        o.frozenTime = 0.6f;
+        std::vector<Ray> at = rays;
+        if (kind == AccelKind::Frozen)
+          for (Ray& r : at) r.time = o.frozenTime;
+        auto accel = Accel::build(*s, o);
+        expectAgreement(*accel, *brute, at,
+                        ts.name + " " + std::string(toString(kind)) + " N=" + std::to_string(width) +
+                            " leaf " + std::to_string(leafSize));
+      }
+}
+
+// One-reference leaves live in their node (kInlineLeaf): the layout keeps
+// those of the node's most common geometry there, the others in the table,
+// and every primitive is still referenced exactly once (bvh-interp).
+template <int N, bool Motion>
+void checkInlineLeaves(const detail::WideBvh<N, Motion>& bvh, size_t numPrimitives, bool oneGeometry,
+                       const std::string& what) {
+  std::multiset<std::pair<uint32_t, uint32_t>> refs;
+  for (const detail::PrimRef& p : bvh.prims) refs.insert({p.geomID, p.primID});
+  size_t inlined = 0, geometriesMixed = 0;
+  for (const auto& node : bvh.nodes) {
+    std::set<uint32_t> singles;
+    for (int l = 0; l < N; ++l) {
+      if (node.count[l] == detail::kInlineLeaf) {
+        ++inlined;
+        refs.insert({node.leafGeom, node.child[l]});
+        ASSERT_TRUE(node.isLeaf(l)) << what;
+        ASSERT_FALSE(node.isEmpty(l)) << what;
+      } else if (node.isLeaf(l) && node.count[l] == 1) {
+        // Left in the table only when of another geometry than the inline ones.
+        ASSERT_NE(bvh.prims[node.child[l]].geomID, node.leafGeom) << what;
+        ++geometriesMixed;
+      }
     }
+  }
+  EXPECT_EQ(inlined, bvh.inlineRefs) << what;
+  EXPECT_EQ(bvh.numReferences(), numPrimitives) << what;
+  EXPECT_EQ(refs.size(), numPrimitives) << what;
+  const std::set<std::pair<uint32_t, uint32_t>> distinct(refs.begin(), refs.end());
+  EXPECT_EQ(distinct.size(), numPrimitives) << what;
+  if (oneGeometry) {
+    EXPECT_EQ(inlined, numPrimitives) << what;
+  } else {
+    EXPECT_GT(inlined, numPrimitives / 5) << what;
+    EXPECT_GT(geometriesMixed, 0u) << what;
+  }
+}
+
+TEST(Bvh, OneReferenceLeavesLiveInTheirNode) {
+  for (int meshes : {1, 40}) {
+    // Many small meshes: nodes meet single leaves of several geometries.
+    Rng rng(5);
+    Scene scene;
+    for (int g = 0; g < meshes; ++g) addRandomTriangles(scene, rng, 400 / meshes, 1 + g % 3);
+    BuildOptions o;
+    o.kind = AccelKind::BvhInterp;
+    o.maxLeafSize = 1;
+    detail::BuildBudget budget;
+    detail::SceneContext ctx(scene, o, budget);
+    const std::vector<detail::PrimRef> prims = ctx.primitives();
+    const std::string what = std::to_string(meshes) + " meshes, N=";
+    detail::WideBvh<8, true> motion8;
+    detail::buildWideBvh(ctx, prims, detail::ShutterRefs(ctx), motion8);
+    checkInlineLeaves(motion8, ctx.numPrimitives(), meshes == 1, what + "8");
+    detail::WideBvh<4, true> motion4;
+    detail::buildWideBvh(ctx, prims, detail::ShutterRefs(ctx), motion4);
+    checkInlineLeaves(motion4, ctx.numPrimitives(), meshes == 1, what + "4");
+  }
 }

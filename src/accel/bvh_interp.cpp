@@ -28,7 +28,7 @@ class BvhInterp final : public WideBvhStructure<N, true> {
   // Same topology, new bounds: leaves from the primitives, inner lanes from
   // their children, bottom-up.
   bool refit() override {
-    if (bvh_.prims.size() != numPrims_) return false;  // a primitive was dropped: rebuild
+    if (bvh_.numReferences() != numPrims_) return false;  // a primitive was dropped: rebuild
     // Instance bounds come from the context's key boxes and the instanced
     // structures, which are made once: rebuild instead.
     for (uint32_t g = 0; g < ctx_.scene().numGeometries(); ++g)
@@ -56,8 +56,8 @@ class BvhInterp final : public WideBvhStructure<N, true> {
       if (node.isEmpty(i)) continue;
       LBounds& b = lanes[i];
       if (node.isLeaf(i)) {
-        for (uint32_t k = 0; k < node.count[i]; ++k)
-          b.extend(linearBounds(ctx_, bvh_.prims[node.child[i] + k], {0.0f, 1.0f}));
+        PrimRef one;
+        for (const PrimRef& p : bvh_.leafRefs(node, i, one)) b.extend(linearBounds(ctx_, p, {0.0f, 1.0f}));
         ok = ok && usableBounds(b);
       } else {
         b = refitNode(node.child[i], ok);

@@ -36,28 +36,32 @@ TimeRange laneRange(const WideBvh<N, Motion>& bvh, const WideNode<N, Motion>& no
 }
 
 // Visits the lanes below `node` (serving `range`): fn(node, lane, lane's time
-// range, references below the lane). Returns the reference range of the
-// subtree (contiguous by construction).
+// range, references below the lane). Returns the references of the subtree
+// (copies: inline leaves keep theirs in the nodes).
 template <int N, bool Motion, class Fn>
-std::pair<uint32_t, uint32_t> walkTimedLanes(const WideBvh<N, Motion>& bvh, uint32_t node, TimeRange range,
-                                             const Fn& fn) {
-  uint32_t first = ~0u, end = 0;
+std::vector<PrimRef> walkTimedLanes(const WideBvh<N, Motion>& bvh, uint32_t node, TimeRange range, const Fn& fn) {
+  std::vector<PrimRef> all;
   const auto& n = bvh.nodes[node];
   for (int i = 0; i < N; ++i) {
     if (n.isEmpty(i)) continue;
     const TimeRange r = laneRange(bvh, n, i, range);
-    std::pair<uint32_t, uint32_t> refs{n.child[i], n.child[i] + n.count[i]};
-    if (!n.isLeaf(i)) refs = walkTimedLanes(bvh, n.child[i], r, fn);
-    fn(n, i, r, std::span<const PrimRef>(bvh.prims.data() + refs.first, refs.second - refs.first));
-    first = std::min(first, refs.first);
-    end = std::max(end, refs.second);
+    PrimRef one;
+    std::vector<PrimRef> below;
+    if (n.isLeaf(i)) {
+      const std::span<const PrimRef> refs = bvh.leafRefs(n, i, one);
+      below.assign(refs.begin(), refs.end());
+    } else {
+      below = walkTimedLanes(bvh, n.child[i], r, fn);
+    }
+    fn(n, i, r, std::span<const PrimRef>(below));
+    all.insert(all.end(), below.begin(), below.end());
   }
-  return {first, end};
+  return all;
 }
 
 // As walkTimedLanes, for trees without time ranges: fn(node, lane, references).
 template <int N, bool Motion, class Fn>
-std::pair<uint32_t, uint32_t> walkLanes(const WideBvh<N, Motion>& bvh, uint32_t node, const Fn& fn) {
+std::vector<PrimRef> walkLanes(const WideBvh<N, Motion>& bvh, uint32_t node, const Fn& fn) {
   return walkTimedLanes(bvh, node, TimeRange{0.0f, 1.0f},
                         [&](const WideNode<N, Motion>& n, int lane, TimeRange, std::span<const PrimRef> below) {
                           fn(n, lane, below);

@@ -47,7 +47,12 @@ float stepFor(double origin, double top) {
 
 template <int N>
 void WideNode<N, true>::encode(const LBounds (&lanes)[N], uint32_t lanesPresent) {
-  present = uint8_t(lanesPresent);
+  // Lanes without bounds are empty; a lane that gets bounds stops being
+  // empty (its caller says what it holds).
+  for (int l = 0; l < N; ++l) {
+    if (!(lanesPresent >> l & 1u)) count[l] = kEmptyLane;
+    else if (count[l] == kEmptyLane) count[l] = kInnerLane;
+  }
   if (lanesPresent == 0) {
     std::memset(origin, 0, sizeof(float) * 12);  // origin, drift, step0, step1
     std::memset(q, 0, sizeof(q));

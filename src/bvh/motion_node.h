@@ -32,19 +32,34 @@ struct alignas(32) WideNode<N, true> {
   float origin[3], drift[3], step0[3], step1[3];
   // q[axis][k][lane]: k = 0 lower at t = 0, 1 upper at t = 0, 2 lower at t = 1, 3 upper at t = 1.
   uint8_t q[3][4][N];
-  uint32_t child[N];  // inner: node index; leaf: first reference
-  uint8_t count[N];   // 0: inner node (or empty lane); > 0: leaf size
+  uint32_t child[N];  // by count: node index, first reference, or primID (wide_node.h)
+  uint8_t count[N];   // kInnerLane, leaf size, kInlineLeaf or kEmptyLane
   uint32_t times;     // LaneTimes index, or kNoTimes
-  uint8_t present;    // bit per lane with bounds
+  uint32_t leafGeom;  // geometry of the kInlineLeaf lanes
   static constexpr uint32_t kNoTimes = 0xFFFFFFFFu;
 
   void clear() {
     std::memset(static_cast<void*>(this), 0, sizeof(*this));
+    std::memset(count, kEmptyLane, sizeof(count));
     times = kNoTimes;
   }
   bool hasTimes() const { return times != kNoTimes; }
-  bool isLeaf(int lane) const { return count[lane] != 0; }
-  bool isEmpty(int lane) const { return !(present >> lane & 1u); }
+  bool isLeaf(int lane) const { return count[lane] != kInnerLane && count[lane] != kEmptyLane; }
+  bool isEmpty(int lane) const { return count[lane] == kEmptyLane; }
+  // Bit per lane that is not empty: the node test ignores the levels of empty
+  // lanes, which stand in for a present lane's (motion_node.cpp).
+  uint32_t occupiedLanes() const {
+#ifdef MBRT_BVH_SSE
+    static_assert(offsetof(WideNode, count) + 8 <= sizeof(WideNode));
+    const __m128i c = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(count));
+    const uint32_t empty = uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(c, _mm_set1_epi8(char(kEmptyLane)))));
+    return ~empty & ((1u << N) - 1u);
+#else
+    uint32_t m = 0;
+    for (int l = 0; l < N; ++l) m |= uint32_t(count[l] != kEmptyLane) << l;
+    return m;
+#endif
+  }
 
   // Sets the bounds of every lane at once (the grid depends on all of them);
   // lanes without a bit in `lanesPresent` become empty (motion_node.cpp).

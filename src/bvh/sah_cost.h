@@ -50,7 +50,8 @@ void addLaneCosts(const WideBvh<N, Motion>& bvh, uint32_t index, TimeRange range
     const double area = meanSurfaceArea(node.bounds(i), r.lo, r.hi) * T * double(r.size());
     if (node.isLeaf(i)) {
       double seg = 0.0;
-      for (uint32_t k = 0; k < node.count[i]; ++k) seg += double(segOf(bvh.prims[node.child[i] + k], r));
+      PrimRef one;
+      for (const PrimRef& p : bvh.leafRefs(node, i, one)) seg += double(segOf(p, r));
       sums.leaves += area * seg;
       ++sums.leafNodes;
     } else {
@@ -68,7 +69,7 @@ void addLaneCosts(const WideBvh<N, Motion>& bvh, uint32_t index, TimeRange range
 template <int N, bool Motion, class SegOf>
 void addTreeCost(const WideBvh<N, Motion>& bvh, double T, const SegOf& segOf, SahSums& sums) {
   sums.bytes += bvh.bytes();
-  sums.references += bvh.prims.size();
+  sums.references += bvh.numReferences();
   if (bvh.empty()) return;
   sums.innerNodes += bvh.nodes.size();
   sums.maxDepth = std::max(sums.maxDepth, size_t(bvh.depth) + 1);

@@ -92,21 +92,42 @@ inline uint32_t intersectNode(const WideNode<N, Motion>& node, const NodeRay<W>&
     mask |= hit << base;
     tn.store(dist + base);
   }
-  if constexpr (Motion) mask &= node.present;
+  if constexpr (Motion) mask &= node.occupiedLanes();
   return mask;
 }
 
+// A lane the ray enters: an inner node, a leaf of references in the tree's
+// table, or one reference that its node kept (kInlineLeaf, wide_node.h).
 struct TraversalItem {
-  uint32_t child;  // node index or first reference
-  uint32_t count;  // 0: inner node
+  static constexpr uint32_t kInline = 0x80000000u;  // in count: inline reference, geomID below
+  uint32_t child;  // node index, first reference, or (inline) primID
+  uint32_t count;  // 0: inner node; leaf size; or kInline | geomID
   float dist;      // entry distance
+
+  bool inner() const { return count == 0; }
+  uint32_t leafSize() const { return count & kInline ? 1u : count; }
+  // The leaf's references: in `table`, or the inline one, made in `one`.
+  const PrimRef* references(const PrimRef* table, PrimRef& one) const {
+    if (!(count & kInline)) return table + child;
+    one = {count & ~kInline, child};
+    return &one;
+  }
 };
 
+// The item of a lane of `node` entered at `dist`. Nodes with a leafGeom can
+// keep a one-reference leaf inline (wide_node.h); others (msbvh) cannot.
+template <class Node>
+inline TraversalItem laneItem(const Node& node, int lane, float dist) {
+  if constexpr (requires { node.leafGeom; })
+    if (node.count[lane] == kInlineLeaf) return {node.child[lane], TraversalItem::kInline | node.leafGeom, dist};
+  return {node.child[lane], node.count[lane], dist};
+}
+
 // The front-to-back loop of every N-wide tree (the BVH kinds and `msbvh`).
-// nodeAt(i) gives node i (its child[] and count[] lanes); testNode(node, i,
-// dist) returns the mask of lanes the ray enters, with their entry distances
-// in dist; leaf(first, count) tests a leaf's references and returns true on
-// a hit (for AnyHit: the ray is occluded, the walk stops). The nearest child
+// nodeAt(i) gives node i (its lanes, as laneItem reads them); testNode(node,
+// i, dist) returns the mask of lanes the ray enters, with their entry
+// distances in dist; leaf(item) tests a leaf's references and returns true
+// on a hit (for AnyHit: the ray is occluded, the walk stops). The nearest child
 // is visited next, the others go on the stack farthest first.
 template <bool AnyHit, bool Count, int N, class NodeAt, class TestNode, class Leaf>
 bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* counters, NodeAt&& nodeAt,
@@ -127,7 +148,7 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
     TraversalItem item = stack[--sp];
     if (!AnyHit && item.dist > ray.tfar) continue;
     while (true) {
-      if (item.count == 0) {
+      if (item.inner()) {
         const auto& node = nodeAt(item.child);
         if constexpr (Count) {
           ++counters->nodesVisited;
@@ -138,16 +159,16 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
         int lane = __builtin_ctz(mask);
         mask &= mask - 1;
         if (mask == 0) {
-          item = {node.child[lane], node.count[lane], dist[lane]};
+          item = laneItem(node, lane, dist[lane]);
           continue;
         }
         TraversalItem hits[N];
         int n = 0;
-        hits[n++] = {node.child[lane], node.count[lane], dist[lane]};
+        hits[n++] = laneItem(node, lane, dist[lane]);
         do {
           lane = __builtin_ctz(mask);
           mask &= mask - 1;
-          TraversalItem h{node.child[lane], node.count[lane], dist[lane]};
+          const TraversalItem h = laneItem(node, lane, dist[lane]);
           int j = n++;
           while (j > 0 && hits[j - 1].dist < h.dist) {  // sort by descending distance
             hits[j] = hits[j - 1];
@@ -159,8 +180,8 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
         item = hits[n - 1];
         continue;
       }
-      if constexpr (Count) counters->primitiveTests += item.count;
-      if (leaf(item.child, item.count)) {
+      if constexpr (Count) counters->primitiveTests += item.leafSize();
+      if (leaf(item)) {
         if constexpr (AnyHit) return true;
         found = true;
       }
@@ -184,8 +205,10 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
         const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
         return intersectNode<packWidth<N>()>(node, r, ray.tfar, dist, times);
       },
-      [&](uint32_t first, uint32_t count) {
-        const PrimRef* prims = bvh.prims.data() + first;
+      [&](const TraversalItem& item) {
+        PrimRef one;
+        const PrimRef* prims = item.references(bvh.prims.data(), one);
+        const uint32_t count = item.leafSize();
         if constexpr (AnyHit) return occludedLeaf(ctx, prims, count, ray);
         else return intersectLeaf(ctx, prims, count, ray, *hit, Count ? counters : nullptr);
       });

@@ -21,10 +21,19 @@ class Layout {
       out_.nodes[index].times = uint32_t(out_.times.size());
       out_.times.push_back(tree_.times[from.times]);
     }
+    const uint32_t inlineGeom = mostCommonSingleGeometry(from);
+    out_.nodes[index].leafGeom = inlineGeom;
     for (int i = 0; i < N; ++i) {
       if (from.isLeaf(i)) {
-        out_.nodes[index].child[i] = uint32_t(out_.prims.size());
         const auto first = tree_.prims.begin() + std::ptrdiff_t(from.child[i]);
+        // Traversal tags the geomID with bit 31 (TraversalItem::kInline).
+        if (from.count[i] == 1 && first->geomID == inlineGeom && first->geomID < (1u << 31)) {
+          out_.nodes[index].child[i] = first->primID;
+          out_.nodes[index].count[i] = kInlineLeaf;
+          ++out_.inlineRefs;
+          continue;
+        }
+        out_.nodes[index].child[i] = uint32_t(out_.prims.size());
         out_.prims.insert(out_.prims.end(), first, first + from.count[i]);
       } else if (!from.isEmpty(i)) {
         const uint32_t child = emit(from.child[i], depth + 1);
@@ -35,6 +44,24 @@ class Layout {
   }
 
  private:
+  // The geometry of most one-reference leaves of `node` (the smallest id on
+  // a tie), whose references the node keeps inline; kInvalidId if none.
+  uint32_t mostCommonSingleGeometry(const WideNode<N, Motion>& node) const {
+    uint32_t geoms[N], votes[N] = {};
+    int n = 0;
+    for (int i = 0; i < N; ++i)
+      if (node.isLeaf(i) && node.count[i] == 1) geoms[n++] = tree_.prims[node.child[i]].geomID;
+    uint32_t best = kInvalidId, bestVotes = 0;
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) votes[i] += geoms[j] == geoms[i];
+      if (votes[i] > bestVotes || (votes[i] == bestVotes && geoms[i] < best)) {
+        best = geoms[i];
+        bestVotes = votes[i];
+      }
+    }
+    return best;
+  }
+
   const UnorderedWideBvh<N, Motion>& tree_;
   WideBvh<N, Motion>& out_;
 };

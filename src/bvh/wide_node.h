@@ -7,6 +7,12 @@
 // Spatial-temporal nodes (STBVH §3.3) also give each lane a time range
 // [t0, t1): `times` indexes the tree's LaneTimes table (kNoTimes: every lane
 // serves the whole range of the node).
+//
+// A lane's count says what it holds: an inner node (kInnerLane, child = node
+// index), a leaf of count references (child = first reference in the tree's
+// table), nothing (kEmptyLane), or one reference kept in the node itself
+// (kInlineLeaf: child = its primID, its geometry the node's leafGeom), which
+// saves the leaf test a dependent load from the reference table.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +23,9 @@
 
 namespace mbrt::detail {
 
+// What a lane's count byte holds besides a leaf size (1 to 64, accel.cpp).
+inline constexpr uint8_t kInnerLane = 0, kInlineLeaf = 0xFE, kEmptyLane = 0xFF;
+
 // Static nodes (Motion = false, the `frozen` kind): one float box per lane.
 // Motion nodes are the specialisation in motion_node.h.
 template <int N, bool Motion>
@@ -24,9 +33,10 @@ struct alignas(32) WideNode {
   static_assert(!Motion, "motion nodes: motion_node.h");
   // plane[axis][k][lane]: k = 0 lower, 1 upper.
   float plane[3][2][N];
-  uint32_t child[N];  // inner: node index; leaf: first reference
-  uint8_t count[N];   // 0: inner node (or empty lane); > 0: leaf size
+  uint32_t child[N];  // by count: node index, first reference, or primID
+  uint8_t count[N];   // kInnerLane, leaf size, kInlineLeaf or kEmptyLane
   uint32_t times;     // LaneTimes index, or kNoTimes
+  uint32_t leafGeom;  // geometry of the kInlineLeaf lanes
   static constexpr uint32_t kNoTimes = 0xFFFFFFFFu;
 
   void clear() {
@@ -36,21 +46,25 @@ struct alignas(32) WideNode {
         plane[a][0][l] = kInf;
         plane[a][1][l] = -kInf;
       }
+    std::memset(count, kEmptyLane, sizeof(count));
     times = kNoTimes;
   }
   bool hasTimes() const { return times != kNoTimes; }
-  bool isLeaf(int lane) const { return count[lane] != 0; }
-  bool isEmpty(int lane) const { return count[lane] == 0 && plane[0][0][lane] == kInf; }
+  bool isLeaf(int lane) const { return count[lane] != kInnerLane && count[lane] != kEmptyLane; }
+  bool isEmpty(int lane) const { return count[lane] == kEmptyLane; }
 
   // Sets the lanes with a bit in `present` to their boxes (b0; a static
-  // node has no motion).
+  // node has no motion); a lane that gets a box stops being empty (its
+  // caller says what it holds).
   void encode(const LBounds (&lanes)[N], uint32_t present) {
     for (int lane = 0; lane < N; ++lane)
-      if (present >> lane & 1u)
+      if (present >> lane & 1u) {
+        if (count[lane] == kEmptyLane) count[lane] = kInnerLane;
         for (int a = 0; a < 3; ++a) {
           plane[a][0][lane] = lanes[lane].b0.lower[a];
           plane[a][1][lane] = lanes[lane].b0.upper[a];
         }
+      }
   }
   LBounds bounds(int lane) const { return LBounds(boxAt(lane, 0.0f), boxAt(lane, 0.0f)); }
   Box3f boxAt(int lane, float) const {

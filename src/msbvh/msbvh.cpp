@@ -411,10 +411,10 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
           const KeyPlanes<N>* k = &nodes_.key(i, r.key);
           return intersectKeys<packWidth<N>()>(k[0], k[1], r, ray.tfar, dist);
         },
-        [&](uint32_t first, uint32_t count) {
-          const PrimRef* prims = prims_.data() + first;
-          if constexpr (AnyHit) return occludedLeaf(ctx_, prims, count, ray);
-          else return intersectLeaf(ctx_, prims, count, ray, *hit, Count ? counters : nullptr);
+        [&](const TraversalItem& leaf) {
+          const PrimRef* prims = prims_.data() + leaf.child;
+          if constexpr (AnyHit) return occludedLeaf(ctx_, prims, leaf.count, ray);
+          else return intersectLeaf(ctx_, prims, leaf.count, ray, *hit, Count ? counters : nullptr);
         });
   }
 
