@@ -261,7 +261,7 @@ TEST(Stbvh, ReusedTemporalSplitsGiveTheSameTrees) {
     detail::BuildBudget budget;
     detail::SceneContext ctx(*ps.scene, o, budget);
     const std::vector<detail::PrimRef> prims = ctx.primitives();
-    const detail::SceneTiming timing(ctx);
+    const detail::SceneTemporalSource timing(ctx);
     std::vector<uint8_t> bytes[2];
     for (int reuse = 0; reuse < 2; ++reuse) {
       detail::WideBvh<8, true> bvh;

@@ -19,6 +19,7 @@ namespace mbrt {
 
 namespace detail {
 class Structure;
+struct BuiltStructure;
 }
 
 class Accel {
@@ -62,7 +63,8 @@ class Accel {
 
   const Scene* scene_;
   BuildOptions options_;
-  std::unique_ptr<detail::Structure> structure_;
+  std::unique_ptr<detail::BuiltStructure> built_;
+  detail::Structure* structure_ = nullptr;  // built_'s, traced directly
   double buildSeconds_ = 0.0;
   mutable std::atomic<uint64_t> invalidRays_{0};
 };

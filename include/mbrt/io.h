@@ -1,6 +1,6 @@
 // Geometry files: Wavefront OBJ (one static mesh, or a keyframe sequence of
 // files with the same faces), PLY (static), and a procedural motion for
-// static meshes. glTF is in gltf.h, JSON scene files in scene_file.h; the
+// static meshes. glTF is in gltf.h, JSON scene files in loaders.h; the
 // formats are described in docs/input.md.
 #pragma once
 

@@ -118,6 +118,14 @@ constexpr LBounds merge(const LBounds& a, const LBounds& b) {
   return {merge(a.b0, b.b0), merge(a.b1, b.b1)};
 }
 
+// Bounds a ray can hit: both boxes non-empty with finite planes. Primitives
+// whose bounds are not usable (degenerate or overflowing) can never be hit
+// and every structure leaves them out.
+inline bool isUsable(const LBounds& b) {
+  return !b.b0.empty() && !b.b1.empty() && isFinite(b.b0.lower) && isFinite(b.b0.upper) && isFinite(b.b1.lower) &&
+         isFinite(b.b1.upper);
+}
+
 // Half-open time range [lo, hi), except that a range ending at 1 contains 1.
 struct TimeRange {
   float lo = 0.0f, hi = 1.0f;

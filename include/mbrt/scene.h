@@ -216,7 +216,8 @@ class Scene {
   // transforms, instance cycles or nesting deeper than maxInstanceDepth.
   void validate(int maxInstanceDepth = 8) const;
 
-  // Bumped by every change; an Accel remembers the version it was built for.
+  // Bumped by every change to the scene (geometry added, data replaced), so
+  // that a caller can tell whether what it derived from the scene is stale.
   uint64_t version() const { return version_; }
 
  private:

@@ -65,36 +65,22 @@ void TraversalCounters::add(const TraversalCounters& o) {
   maxPrimitiveTests = std::max(maxPrimitiveTests, o.maxPrimitiveTests);
 }
 
-// The context (and with it the instanced scenes' structures) lives with the
-// structure; this holder keeps both and the budget together.
+// What a build makes: its memory budget, the context (and with it the
+// structures of instanced scenes) and the structure, which lives on both.
+// Accel traces through `structure` directly: one virtual call per ray.
 namespace detail {
-class Owned final : public Structure {
- public:
-  Owned(const Scene& scene, const BuildOptions& options)
-      : budget_(options.memoryBudget), context_(scene, options, budget_, makeStructure), inner_(makeStructure(context_)) {}
-  bool intersect(RayQuery& ray, Hit& hit) const override { return inner_->intersect(ray, hit); }
-  bool occluded(RayQuery& ray) const override { return inner_->occluded(ray); }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    return inner_->intersectCounted(ray, hit, c);
-  }
-  void fillStats(AccelStats& s) const override {
-    inner_->fillStats(s);
-    context_.addChildStats(s);
-    s.primitives = context_.totalPrimitives();
-    s.peakBuildBytes = budget_.peak();
-  }
-  bool refit() override { return inner_->refit(); }
-  uint32_t clusterOf(PrimRef ref) const override { return inner_->clusterOf(ref); }
-
- private:
-  BuildBudget budget_;
-  SceneContext context_;
-  std::unique_ptr<Structure> inner_;
+struct BuiltStructure {
+  BuiltStructure(const Scene& scene, const BuildOptions& options)
+      : budget(options.memoryBudget), context(scene, options, budget, makeStructure), structure(makeStructure(context)) {}
+  BuildBudget budget;
+  SceneContext context;
+  std::unique_ptr<Structure> structure;
 };
 }  // namespace detail
 
 Accel::Accel(const Scene& scene, const BuildOptions& options) : scene_(&scene), options_(options) {}
 Accel::~Accel() = default;
+
 
 std::unique_ptr<Accel> Accel::build(const Scene& scene, const BuildOptions& options) {
   if (options.branching != 2 && options.branching != 4 && options.branching != 8)
@@ -113,9 +99,11 @@ std::unique_ptr<Accel> Accel::build(const Scene& scene, const BuildOptions& opti
 
 void Accel::construct() {
   scene_->validate(options_.maxInstanceDepth);
-  structure_.reset();
+  structure_ = nullptr;
+  built_.reset();
   const auto start = std::chrono::steady_clock::now();
-  structure_ = std::make_unique<detail::Owned>(*scene_, options_);
+  built_ = std::make_unique<detail::BuiltStructure>(*scene_, options_);
+  structure_ = built_->structure.get();
   buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   invalidRays_ = 0;
 }
@@ -189,6 +177,9 @@ uint32_t Accel::clusterOf(uint32_t geomID, uint32_t primID) const {
 AccelStats Accel::stats() const {
   AccelStats s;
   structure_->fillStats(s);
+  built_->context.addChildStats(s);
+  s.primitives = built_->context.totalPrimitives();
+  s.peakBuildBytes = built_->budget.peak();
   s.kind = std::string(toString(options_.kind));
   s.buildSeconds = buildSeconds_;
   s.invalidRays = invalidRays_.load();

@@ -17,7 +17,8 @@
 
 #include "core/robust_slab.h"
 #include "core/simd.h"
-#include "scene/scene_context.h"
+#include "core/prim_ref.h"
+#include "mbrt/math.h"
 #include "core/ray_query.h"
 #include "kd/kd_node.h"
 

@@ -8,8 +8,9 @@
 #include "bvh/inspect.h"
 #include "bvh/leaf_intersect.h"
 #include "bvh/sah_cost.h"
-#include "core/simd.h"
 #include "bvh/traverse.h"
+#include "core/simd.h"
+#include "core/traced_structure.h"
 #include "scene/branching.h"
 #include "scene/primitive_bounds.h"
 #include "scene/primitive_intersect.h"
@@ -141,13 +142,15 @@ inline uint32_t intersectKeys(const KeyPlanes<N>& k0, const KeyPlanes<N>& k1, co
 // The same arithmetic, one lane, for inspection.
 inline float lerpKey(float a, float b, float f) { return madd(f, b - a, a); }
 
-class MsbvhBase : public Structure {
+// What tests ask of an MSBVH whatever its width.
+class MsbvhKeys {
  public:
+  virtual ~MsbvhKeys() = default;
   virtual uint32_t keySegments() const = 0;
 };
 
 template <int N>
-class Msbvh final : public MsbvhBase, public BvhInspect {
+class Msbvh final : public TracedStructure<Msbvh<N>>, public MsbvhKeys, public BvhInspect {
  public:
   explicit Msbvh(const SceneContext& ctx)
       : ctx_(ctx),
@@ -185,11 +188,6 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
 
   uint32_t keySegments() const override { return n_; }
 
-  bool intersect(RayQuery& ray, Hit& hit) const override { return traverse<false, false>(ray, &hit, nullptr); }
-  bool occluded(RayQuery& ray) const override { return traverse<true, false>(ray, nullptr, nullptr); }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    return traverse<false, true>(ray, &hit, &c);
-  }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
@@ -401,8 +399,9 @@ class Msbvh final : public MsbvhBase, public BvhInspect {
     return {first, end};
   }
 
+  friend class TracedStructure<Msbvh<N>>;
   template <bool AnyHit, bool Count>
-  bool traverse(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
+  bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     if (nodes_.empty()) return false;
     const KeyRay<packWidth<N>()> r(ray, n_);
     return wideTraverse<AnyHit, Count, N>(
@@ -438,7 +437,7 @@ std::unique_ptr<Structure> makeMsbvh(const SceneContext& context) {
 }
 
 uint32_t msbvhKeySegments(const Structure& structure) {
-  const auto* m = dynamic_cast<const MsbvhBase*>(&structure);
+  const auto* m = dynamic_cast<const MsbvhKeys*>(&structure);
   return m ? m->keySegments() : 0;
 }
 

@@ -7,7 +7,8 @@
 #include <span>
 #include <vector>
 
-#include "scene/scene_context.h"
+#include "core/prim_ref.h"
+#include "mbrt/math.h"
 
 namespace mbrt::detail {
 
@@ -25,8 +26,6 @@ struct BuildRef {
   Vec3f centroid() const { return bounds.at(0.5f).center(); }
 };
 
-// True for bounds a ray can hit: non-empty and finite at both ends.
-bool usableBounds(const LBounds& b);
 
 // How each reference of a build is made from its primitive.
 struct RefMaker {

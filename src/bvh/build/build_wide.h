@@ -6,6 +6,7 @@
 
 #include "bvh/build/build_ref.h"
 #include "bvh/build/builder.h"
+#include "scene/scene_context.h"
 
 namespace mbrt::detail {
 
@@ -27,7 +28,8 @@ inline constexpr float kFilledTraversalScale = 1.5f;
 // 1.5, a one-primitive leaf of straight motion over 5 segments (a temporal
 // split halves its segments, not its area) is split in time only below
 // λ = (1 - 1.5 / 5) / 0.52 = 1.35: 1.4 keeps such leaves whole, so linear
-// bounds carry linear motion (docs/stbvh.md, "Fifth pass").
+// bounds carry linear motion (docs/stbvh.md, "Quantised motion nodes and
+// the MBSAH's own leaf test").
 inline constexpr float kTemporalLeafPenalty = 1.4f;
 
 // With a TemporalSource the builder also makes temporal splits (stbvh).

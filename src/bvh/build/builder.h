@@ -13,9 +13,10 @@
 // stays with whole nodes). Such splits are made only where a lane takes
 // them, so a leaf costs no nodes and no binning below it.
 //
-// Extension point: `chooseSplit` in builder.cpp is where spatial splits
-// (MSBVH/SBVH) would join; like temporal splits they produce two new
-// reference sets, which the driver already handles.
+// The split strategies meet in heuristics/split_choice.h; a spatial split
+// (MSBVH/SBVH) would join there, producing two new reference sets as a
+// temporal split does (docs/architecture.md says why msbvh keeps its own
+// driver for now).
 #pragma once
 
 #include <atomic>
@@ -40,7 +41,8 @@ struct BuildSettings {
   // λ against a leaf: a temporal split replaces a leaf only when this many
   // times its cost, plus C_T, still beats the leaf (STBVH §3.2 penalises
   // temporal splits by λ = 1.25 against object splits for the references
-  // they duplicate; docs/stbvh.md, "Fifth pass").
+  // they duplicate; docs/stbvh.md, "Quantised motion nodes and the
+  // MBSAH's own leaf test").
   float temporalLeafPenalty = 1.0f;
   // A temporal split an ancestor tried and rejected is reused by its
   // object-split children (split_choice.h); off only to check, in tests,

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "mbrt/ray.h"
+
 namespace mbrt::detail {
 namespace {
 

@@ -15,7 +15,8 @@
 #include <span>
 #include <vector>
 
-#include "scene/scene_context.h"
+#include "core/prim_ref.h"
+#include "mbrt/math.h"
 
 namespace mbrt::detail {
 

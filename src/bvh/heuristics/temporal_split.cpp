@@ -19,7 +19,7 @@ float stepAt(TimeRange r, uint32_t segments, uint32_t k) { return r.lo + r.size(
 // parent's hull (conservative over the half too) stands in.
 bool remakeRef(const BuildRef& ref, TimeRange half, const TemporalSource& source, BuildRef& out) {
   if (!source.remake(ref, half, out)) return false;
-  if (!usableBounds(out.bounds)) {
+  if (!isUsable(out.bounds)) {
     const Box3f hull = ref.bounds.hull();
     out.bounds = LBounds(hull, hull);
   }

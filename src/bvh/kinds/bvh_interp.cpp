@@ -58,7 +58,7 @@ class BvhInterp final : public WideBvhStructure<N, true> {
       if (node.isLeaf(i)) {
         PrimRef one;
         for (const PrimRef& p : bvh_.leafRefs(node, i, one)) b.extend(linearBounds(ctx_, p, {0.0f, 1.0f}));
-        ok = ok && usableBounds(b);
+        ok = ok && isUsable(b);
       } else {
         b = refitNode(node.child[i], ok);
       }

@@ -9,6 +9,7 @@
 #include "bvh/inspect.h"
 #include "bvh/sah_cost.h"
 #include "bvh/traverse.h"
+#include "core/traced_structure.h"
 #include "scene/branching.h"
 #include "scene/primitive_bounds.h"
 
@@ -46,7 +47,7 @@ struct SegmentRefs final : RefMaker {
 };
 
 template <int N>
-class BvhSegments final : public Structure, public BvhInspect {
+class BvhSegments final : public TracedStructure<BvhSegments<N>>, public BvhInspect {
  public:
   explicit BvhSegments(const SceneContext& ctx) : ctx_(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
@@ -56,20 +57,11 @@ class BvhSegments final : public Structure, public BvhInspect {
     tbb::parallel_for(0u, n, [&](uint32_t i) { buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i]); });
   }
 
-  bool intersect(RayQuery& ray, Hit& hit) const override {
+  template <bool AnyHit, bool Count>
+  bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     float local;
     const uint32_t i = segmentOf(ray.time, uint32_t(trees_.size()), local);
-    return traverse<false, false>(trees_[i], ctx_, ray, local, &hit, nullptr);
-  }
-  bool occluded(RayQuery& ray) const override {
-    float local;
-    const uint32_t i = segmentOf(ray.time, uint32_t(trees_.size()), local);
-    return traverse<true, false>(trees_[i], ctx_, ray, local, nullptr, nullptr);
-  }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    float local;
-    const uint32_t i = segmentOf(ray.time, uint32_t(trees_.size()), local);
-    return traverse<false, true>(trees_[i], ctx_, ray, local, &hit, &c);
+    return traverse<AnyHit, Count>(trees_[i], ctx_, ray, local, hit, counters);
   }
 
   // All trees summed, each covering T = 1/N.

@@ -9,6 +9,7 @@
 #include "bvh/inspect.h"
 #include "bvh/heuristics/temporal_split.h"
 #include "bvh/traverse.h"
+#include "core/traced_structure.h"
 #include "scene/branching.h"
 #include "scene/primitive_bounds.h"
 
@@ -33,9 +34,9 @@ struct ShutterRefs final : RefMaker {
 // and its reference remade for part of the shutter with linear bounds over
 // exactly that part (Fig. 4), local to it (the nodes get the global form):
 // `stbvh`'s TemporalSource.
-struct SceneTiming final : TemporalSource {
+struct SceneTemporalSource final : TemporalSource {
   const SceneContext& ctx;
-  explicit SceneTiming(const SceneContext& c) : ctx(c) {}
+  explicit SceneTemporalSource(const SceneContext& c) : ctx(c) {}
   TimeRange stepRange(PrimRef prim, uint32_t& segments) const override {
     const Geometry& g = ctx.geometry(prim.geomID);
     segments = g.numSteps() - 1;
@@ -58,16 +59,11 @@ struct SceneTiming final : TemporalSource {
 // Motion trees interpolate the node boxes at the ray's time; a static tree
 // (`frozen`) sees every ray at its one time `frozenTime`.
 template <int N, bool Motion>
-class WideBvhStructure : public Structure, public BvhInspect {
+class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, public BvhInspect {
  public:
-  bool intersect(RayQuery& ray, Hit& hit) const override {
-    return traverse<false, false>(bvh_, ctx_, ray, boxTime(ray), &hit, nullptr);
-  }
-  bool occluded(RayQuery& ray) const override {
-    return traverse<true, false>(bvh_, ctx_, ray, boxTime(ray), nullptr, nullptr);
-  }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    return traverse<false, true>(bvh_, ctx_, ray, boxTime(ray), &hit, &c);
+  template <bool AnyHit, bool Count>
+  bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
+    return traverse<AnyHit, Count>(bvh_, ctx_, ray, boxTime(ray), hit, counters);
   }
   std::vector<uint8_t> bytes() const override {
     std::vector<uint8_t> out;

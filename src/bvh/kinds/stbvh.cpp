@@ -15,7 +15,7 @@ class Stbvh final : public WideBvhStructure<N, true> {
  public:
   explicit Stbvh(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
-    const SceneTiming timing(ctx);
+    const SceneTemporalSource timing(ctx);
     buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing);
   }
 

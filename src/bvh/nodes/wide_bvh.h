@@ -7,7 +7,8 @@
 #include <vector>
 
 #include "bvh/nodes/wide_node.h"
-#include "scene/scene_context.h"
+#include "core/prim_ref.h"
+#include "mbrt/math.h"
 
 namespace mbrt::detail {
 
