@@ -1,7 +1,7 @@
 // fuzzykd: oracle agreement at key times and between keys (skinned, a mesh
 // turning fast between keys, the Wood Doll and CesiumMan when ../shared is
-// present) and the paper's Table 1 / Fig. 7 figures against a static SAH
-// kd-tree built per frame.
+// present), the paper's Table 1 / Fig. 7 figures against a static SAH
+// kd-tree built per frame, and the top tree over the clusters.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "fuzzykd/fuzzykd.h"
+#include "fuzzykd/top_tree.h"
 #include "accel/structure_factory.h"
 #include "scene/scene_context.h"
 #include "scene/primitive_bounds.h"
@@ -354,4 +355,52 @@ TEST(FuzzyKd, StatsReportTheSahOfTheFuzzyTrees) {
   EXPECT_LT(fuzzy.sahCost, 0.2 * brute.sahCost);
   EXPECT_GT(fuzzy.references, 0u);
   EXPECT_GT(fuzzy.leafNodes, 0u);
+}
+
+// The top tree (fuzzykd/top_tree.h, the shared BVH builder): every item in
+// exactly one leaf, alone; a ray aimed at an item's box at its time (0, 1
+// or between) visits that item, and the tree culls most of the others.
+TEST(FuzzyKd, TopTreeHoldsEachItemOnceAndVisitsTheItemsARayMeets) {
+  const ProceduralScene ps = makeProceduralScene("skinned", 0.02, 3);  // a context: options and budget
+  detail::BuildBudget budget;
+  BuildOptions o;
+  detail::SceneContext ctx(*ps.scene, o, budget);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<LBounds> items;
+  for (int i = 0; i < 60; ++i) {
+    const Vec3f c{20 * u(rng), 20 * u(rng), 20 * u(rng)}, move{2 * u(rng), 2 * u(rng), 2 * u(rng)};
+    const Box3f b0{c - Vec3f(0.4f), c + Vec3f(0.4f)};
+    items.push_back(LBounds(b0, Box3f{b0.lower + move, b0.upper + move}));
+  }
+  detail::TopTree top;
+  detail::buildTopTree(ctx, items, top);
+  std::vector<int> leaves(items.size(), 0);
+  for (const auto& node : top.nodes)
+    for (int lane = 0; lane < detail::kTopWidth; ++lane) {
+      if (!node.isLeaf(lane)) continue;
+      detail::PrimRef one;
+      const auto refs = top.leafRefs(node, lane, one);
+      EXPECT_EQ(refs.size(), 1u);
+      for (const detail::PrimRef& r : refs) ++leaves[r.primID];
+    }
+  for (size_t i = 0; i < items.size(); ++i) EXPECT_EQ(leaves[i], 1) << i;
+  size_t visits = 0, rays = 0;
+  for (float time : {0.0f, 1.0f, 0.3f, 0.77f}) {
+    for (size_t i = 0; i < items.size(); ++i, ++rays) {
+      Ray ray;
+      ray.org = {-30.0f * u(rng), 50.0f * u(rng) - 10.0f, -30.0f};
+      ray.dir = items[i].at(time).center() - ray.org;
+      ray.time = time;
+      detail::RayQuery q(ray);
+      bool met = false;
+      detail::traverseTop<false, false>(top, q, nullptr, [&](uint32_t item) {
+        met |= item == i;
+        ++visits;
+        return false;
+      });
+      EXPECT_TRUE(met) << "item " << i << " at " << time;
+    }
+  }
+  EXPECT_LT(visits, rays * items.size() / 4);
 }

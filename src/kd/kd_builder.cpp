@@ -26,13 +26,7 @@ class Builder {
     float leafCost = 0.0f;
     if (depth < params_.maxDepth && !normal.empty()) {
       const auto t = Clock::now();
-      if (params_.bpChoosesSplits && !bp.empty()) {
-        std::vector<KdBuildRef> all(normal);
-        all.insert(all.end(), bp.begin(), bp.end());
-        split = findKdSplit(paths_, all, cell, params_.sah, leafCost);
-      } else {
-        split = findKdSplit(paths_, normal, cell, params_.sah, leafCost);
-      }
+      split = findKdSplit(paths_, normal, cell, params_.sah, leafCost);
       stats_.sahSeconds += since(t);
     }
     if (split.axis < 0 || !(split.cost < leafCost)) {
@@ -74,7 +68,7 @@ class Builder {
                        params_.sah.intersection * (wl * lc.halfArea() + wr * rc.halfArea()) / areaN;
     if (nl.empty() && bl.empty()) splitCost *= params_.sah.emptyBonus;
     if (nr.empty() && br.empty()) splitCost *= params_.sah.emptyBonus;
-    if (!(splitCost < params_.splitTolerance * params_.sah.intersection * (weight(normal) + weight(bp)))) {
+    if (!(splitCost < params_.sah.intersection * (weight(normal) + weight(bp)))) {
       makeLeaf(index, normal, bp);
       return;
     }

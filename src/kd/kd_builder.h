@@ -32,13 +32,6 @@ namespace mbrt::detail {
 struct KdBuildParams {
   KdSahParams sah;
   int maxDepth = 0;  // 0: 8 + 1.3 log2(N), at most kKdMaxDepth
-  // The paper lets only Normal references choose split planes; true lets
-  // the BP references weigh in too (with their time weights).
-  bool bpChoosesSplits = false;
-  // Split while the children's cost (all references) is below this factor
-  // times the leaf's: above 1 lets a split that looks greedy-worse pay off
-  // deeper down.
-  float splitTolerance = 1.0f;
 };
 
 inline constexpr int kKdMaxDepth = 60;

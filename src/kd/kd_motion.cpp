@@ -87,10 +87,4 @@ int KdPaths::sideWindows(uint32_t i, int axis, float pos, bool left, float t0, f
   return n;
 }
 
-TimeRange KdPaths::sideInterval(uint32_t i, int axis, float pos, bool left, float t0, float t1) const {
-  TimeRange w[kKdMaxWindows];
-  const int n = sideWindows(i, axis, pos, left, t0, t1, w);
-  return n == 0 ? TimeRange{kInf, -kInf} : TimeRange{w[0].lo, w[n - 1].hi};
-}
-
 }  // namespace mbrt::detail

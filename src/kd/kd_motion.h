@@ -71,15 +71,12 @@ class KdPaths {
     if (t1 > r.hi) fn(std::max(t0, r.hi), t1, key(i, n - 1), key(i, n - 1));
   }
 
-  // Conservative hull of the times in [t0, t1] at which the box reaches the
-  // side of the plane `pos` on `axis`: lower <= pos (left) or upper >= pos
-  // (right). Empty (lo > hi) when it never does.
-  TimeRange sideInterval(uint32_t i, int axis, float pos, bool left, float t0, float t1) const;
-
-  // The same times as up to kKdMaxWindows disjoint, increasing intervals
-  // (a primitive that leaves the side and comes back); windows closer than
-  // kKdWindowGap are merged, and the last one absorbs any beyond the limit.
-  // Returns the count.
+  // The times in [t0, t1] at which the box reaches the side of the plane
+  // `pos` on `axis` (left: lower < pos, or the box flat in the plane;
+  // right: upper > pos), conservatively, as up to kKdMaxWindows disjoint,
+  // increasing intervals (a primitive that leaves the side and comes back);
+  // windows closer than kKdWindowGap are merged, and the last one absorbs
+  // any beyond the limit. Returns the count (0: it never does).
   int sideWindows(uint32_t i, int axis, float pos, bool left, float t0, float t1, TimeRange* out) const;
 
  private:

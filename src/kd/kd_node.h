@@ -53,4 +53,18 @@ struct KdTree {
   size_t bytes() const { return nodes.size() * sizeof(KdNode) + refs.size() * sizeof(KdLeafRef); }
 };
 
+// Calls fn(node, cell, depth) for `node` and every node below it, cells
+// split at the nodes' planes (depth: the node's level, root = 1).
+template <class Fn>
+void forEachKdCell(const std::vector<KdNode>& nodes, uint32_t node, const Box3f& cell, const Fn& fn, int depth = 1) {
+  fn(node, cell, depth);
+  const KdNode& n = nodes[node];
+  if (n.isLeaf()) return;
+  Box3f l = cell, r = cell;
+  l.upper[n.axis()] = n.split();
+  r.lower[n.axis()] = n.split();
+  forEachKdCell(nodes, node + 1, l, fn, depth + 1);
+  forEachKdCell(nodes, n.rightChild(), r, fn, depth + 1);
+}
+
 }  // namespace mbrt::detail

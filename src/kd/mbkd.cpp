@@ -25,34 +25,25 @@ class Mbkd final : public Structure, public KdInspect {
         prims_.push_back(p);
     }
     ctx.budget().charge(prims_.size() * sizeof(PrimRef), "the kd-tree primitive list");
-    paths_ = KdPaths::fromContext(ctx, prims_);
-    const KdPaths& paths = paths_;
-    ctx.budget().charge(paths.bytes(), "the kd-tree key boxes");
-    Box3f root;  // extended root cell: every primitive over the whole shutter
-    for (uint32_t i = 0; i < paths.size(); ++i) root.extend(paths.hull(i));
-    KdBuildParams params;
-    params.sah.traversal = ctx.options().traversalCost * (blockLeaves_ ? kBlockStepWeight : 1.0f);
-    buildKdTree(paths, root, params, ctx.budget(), tree_, stats_);
-    computeSah();
-    paths_ = {};  // the build's key boxes; the leaves keep what they need
-    if (blockLeaves_) {
-      ctx.budget().charge(tree_.refs.size() / kKdBlockLanes * sizeof(KdLeafBlock), "the kd-tree leaf blocks");
-      blocks_ = KdLeafBlocks::build(tree_, prims_.data(), [&](uint32_t prim, TimeRange r) { return referenceBounds(prim, r); });
-      tree_.refs = {};  // now in the blocks
+    {
+      const KdPaths paths = KdPaths::fromContext(ctx, prims_);  // the build's key boxes
+      ctx.budget().charge(paths.bytes(), "the kd-tree key boxes");
+      Box3f root;  // extended root cell: every primitive over the whole shutter
+      for (uint32_t i = 0; i < paths.size(); ++i) root.extend(paths.hull(i));
+      KdBuildParams params;
+      params.sah.traversal = ctx.options().traversalCost * kBlockStepWeight;
+      buildKdTree(paths, root, params, ctx.budget(), tree_, stats_);
     }
+    computeSah();
+    ctx.budget().charge(tree_.refs.size() / kKdBlockLanes * sizeof(KdLeafBlock), "the kd-tree leaf blocks");
+    blocks_ = KdLeafBlocks::build(tree_, prims_.data(), [&](uint32_t prim, TimeRange r) { return referenceBounds(prim, r); });
+    tree_.refs = {};  // now in the blocks
   }
 
-  bool intersect(RayQuery& ray, Hit& hit) const override {
-    if (blockLeaves_) return traceBlocks<false, false>(ray, &hit, nullptr);
-    return kdTraverse<false, false>(tree_, ctx_, prims_.data(), ray, &hit, nullptr);
-  }
-  bool occluded(RayQuery& ray) const override {
-    if (blockLeaves_) return traceBlocks<true, false>(ray, nullptr, nullptr);
-    return kdTraverse<true, false>(tree_, ctx_, prims_.data(), ray, nullptr, nullptr);
-  }
+  bool intersect(RayQuery& ray, Hit& hit) const override { return traceBlocks<false, false>(ray, &hit, nullptr); }
+  bool occluded(RayQuery& ray) const override { return traceBlocks<true, false>(ray, nullptr, nullptr); }
   bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    if (blockLeaves_) return traceBlocks<false, true>(ray, &hit, &c);
-    return kdTraverse<false, true>(tree_, ctx_, prims_.data(), ray, &hit, &c);
+    return traceBlocks<false, true>(ray, &hit, &c);
   }
 
   void fillStats(AccelStats& s) const override {
@@ -60,22 +51,18 @@ class Mbkd final : public Structure, public KdInspect {
     s.bytes = tree_.bytes() + blocks_.bytes() + prims_.size() * sizeof(PrimRef);
   }
 
+  // The blocks' lanes as the references they were made from.
   void forEachLeaf(
       const std::function<void(const Box3f&, const PrimRef*, std::span<const KdLeafRef>)>& fn) const override {
     std::vector<KdLeafRef> refs;
     auto key = [](PrimRef p) { return uint64_t(p.geomID) << 32 | p.primID; };
     std::unordered_map<uint64_t, uint32_t> index;  // primitive -> its index in prims_
-    for (uint32_t i = 0; blockLeaves_ && i < prims_.size(); ++i) index[key(prims_[i])] = i;
-    walk(0, tree_.root, [&](uint32_t node, const Box3f& cell, int) {
-      const KdNode& n = tree_.nodes[node];
+    for (uint32_t i = 0; i < prims_.size(); ++i) index[key(prims_[i])] = i;
+    walk([&](uint32_t node, const Box3f& cell, int) {
+      const KdNode& n = blocks_.cells.nodes[node];
       if (!n.isLeaf()) return;
-      if (!blockLeaves_) {
-        fn(cell, prims_.data(), std::span<const KdLeafRef>(tree_.refs.data() + n.first(), n.count()));
-        return;
-      }
       refs.clear();
-      const KdNode& b = blocks_.cells.nodes[node];
-      for (uint32_t k = b.first(); k < b.first() + b.count(); ++k) {
+      for (uint32_t k = n.first(); k < n.first() + n.count(); ++k) {
         const KdLeafBlock& block = blocks_.blocks[k];
         for (int lane = 0; lane < kKdBlockLanes; ++lane)
           if (block.t0[lane] <= block.t1[lane]) refs.push_back({index.at(key(block.prim[lane])), block.t0[lane], block.t1[lane]});
@@ -87,16 +74,8 @@ class Mbkd final : public Structure, public KdInspect {
 
  private:
   template <class Fn>
-  void walk(uint32_t node, const Box3f& cell, const Fn& fn, int depth = 1) const {
-    if (tree_.empty()) return;
-    fn(node, cell, depth);
-    const KdNode& n = tree_.nodes[node];
-    if (n.isLeaf()) return;
-    Box3f l = cell, r = cell;
-    l.upper[n.axis()] = n.split();
-    r.lower[n.axis()] = n.split();
-    walk(node + 1, l, fn, depth + 1);
-    walk(n.rightChild(), r, fn, depth + 1);
+  void walk(const Fn& fn) const {
+    if (!tree_.empty()) forEachKdCell(tree_.nodes, 0, tree_.root, fn);
   }
 
   // DESIGN.md's SAH: a cell is a node with its cell box over the whole
@@ -105,7 +84,7 @@ class Mbkd final : public Structure, public KdInspect {
     sceneArea_ = sceneSahArea(ctx_);
     sums_ = {};
     sums_.references = tree_.refs.size();
-    walk(0, tree_.root, [&](uint32_t node, const Box3f& cell, int depth) {
+    walk([&](uint32_t node, const Box3f& cell, int depth) {
       const KdNode& n = tree_.nodes[node];
       const double area = cell.area();
       sums_.maxDepth = std::max(sums_.maxDepth, size_t(depth));
@@ -169,18 +148,15 @@ class Mbkd final : public Structure, public KdInspect {
   const SceneContext& ctx_;
   std::vector<PrimRef> prims_;
   KdPaths paths_;
-  // Not in the paper: SIMD leaves whose lanes also slab-test the
-  // primitive's box at the ray's time (kd_leaf_blocks.h); false is the
-  // paper's leaf (interval check only). See docs/mbkd.md.
-  bool blockLeaves_ = true;
-  // With block leaves a reference costs a lane of a streamed 8-wide test,
-  // while a cell step is a dependent load: the build weighs a step as this
-  // many reference tests more than the paper's K_T (measured: 8-64 trade
-  // steps for leaf size, 16 is the fastest on hairball and skinned with the
-  // least memory but one; docs/mbkd.md).
+  // A reference costs a lane of a streamed 8-wide block test (our leaves,
+  // kd_leaf_blocks.h, not the paper's), while a cell step is a dependent
+  // load: the build weighs a step as this many reference tests more than
+  // the paper's K_T (measured: 8-64 trade steps for leaf size, 16 is the
+  // fastest on hairball and skinned with the least memory but one;
+  // docs/mbkd.md).
   static constexpr float kBlockStepWeight = 16.0f;
   KdLeafBlocks blocks_;
-  KdTree tree_;
+  KdTree tree_;  // the build's tree: its nodes give the cells; its references are in the blocks
   KdBuildStats stats_;
   SahSums sums_;
   double sceneArea_ = 0.0;

@@ -1,0 +1,43 @@
+// A ray through one cluster (Günther et al. 2006 §3): the cluster's world
+// box at the ray's time first, then the ray in the cluster's local frame
+// (the inverse of the map interpolated at its time) down the cluster's
+// fuzzy tree; leaf triangles are tested in world space at the ray's time
+// (scene/primitive_intersect.h), so a hit shortens the world ray and the
+// local one alike (same parameter t).
+#pragma once
+
+#include "fuzzykd/cluster.h"
+#include "kd/kd_traverse.h"
+
+namespace mbrt::detail {
+
+template <bool AnyHit, bool Count>
+bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, Hit* hit,
+                     TraversalCounters* counters) {
+  const Geometry& geo = ctx.geometry(c.geomID);
+  if constexpr (Count) ++counters->boxTests;
+  if (!rayHitsBox(ray, c.boxAt(geo, ray.time))) return false;
+  const Affine3f inv = c.mapAt(geo, ray.time).inverse();
+  RayQuery local;
+  local.setup(inv.xfmPoint(ray.org), inv.xfmVector(ray.dir), ray.tnear, ray.tfar, ray.time, ray.mask);
+  const FuzzyTree& tree = c.tree;
+  KdMailbox mailbox;
+  return kdWalk<AnyHit, Count>(tree, local, counters, [&](const KdNode& n) {
+    bool found = false;
+    const uint32_t* refs = tree.refs.data() + n.first();
+    for (uint32_t i = 0, cnt = n.count(); i < cnt; ++i) {
+      const uint32_t prim = refs[i];
+      if (mailbox.seen(prim)) continue;
+      if constexpr (Count) ++counters->primitiveTests;
+      if constexpr (AnyHit) {
+        if (occludedPrimitive(ctx, c.prims[prim], ray)) return true;
+      } else if (intersectPrimitive(ctx, c.prims[prim], ray, *hit, Count ? counters : nullptr)) {
+        found = true;
+        local.tfar = ray.tfar;
+      }
+    }
+    return found;
+  });
+}
+
+}  // namespace mbrt::detail
