@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "io/file_access.h"
 #include "mbrt/io.h"
 
 namespace mbrt {
@@ -139,8 +140,8 @@ class ObjParser {
 ObjMesh readObj(std::istream& in, std::string_view name) { return ObjParser(name).run(in); }
 
 ObjMesh readObj(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  const std::string bytes = io::readInputFile(path);
+  io::MemoryInput in(bytes);
   return readObj(in, path);
 }
 

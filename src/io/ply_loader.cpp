@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/file_access.h"
 #include "mbrt/io.h"
 
 namespace mbrt {
@@ -271,8 +272,8 @@ class PlyReader {
 }  // namespace
 
 ObjMesh readPly(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  const std::string bytes = io::readInputFile(path);
+  io::MemoryInput in(bytes);
   return PlyReader(in, path).run();
 }
 
