@@ -157,5 +157,8 @@ foreach(sig INT TERM)
 endforeach()
 
 # ---- progress: plain lines when stderr is not a terminal --------------------
-mbrt_cli_test(cli.render_progress_plain PLAIN OUT "^mbrt: +[0-9.]+%  +[0-9.]+ Mrays/s"
-  ARGS render demo --size 0.25 --width 64 --height 64 --spp 1024 --threads 1 --progress -o ${O}/progress.png)
+# Stopped (SIGINT) once the first progress line is out, however fast the machine.
+mbrt_cli_test(cli.render_progress_plain PLAIN CODE 130 TIMEOUT 120
+  SIGNAL INT "^mbrt: +[0-9.]+%  +[0-9.]+ Mrays/s"
+  OUT "^mbrt: +[0-9.]+%  +[0-9.]+ Mrays/s  .* left$"
+  ARGS render demo --size 0.25 --width 128 --height 128 --spp 4096 --tile 4 --threads 1 --progress -o ${O}/progress.png)

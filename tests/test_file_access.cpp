@@ -254,3 +254,13 @@ TEST(SceneFile, ColoursMustBeNonNegative) {
                        "radiance"));
   EXPECT_EQ(msgOf(R"(, "diffuse": [0.5, 0.5, 1]}], "sky": [0.1, 0.2, 0.3])"), "(no error)");
 }
+
+TEST(SceneFile, StepsAreCapped) {
+  TempDir dir;
+  dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string path = dir.write("s.json", R"({"steps": 100000000, "objects": [{"file": "tri.obj"}]})");
+  const std::string msg = errorOf([&] { loadSceneFile(path); });
+  EXPECT_TRUE(contains(msg, "'steps' must be at most 1024")) << msg;
+  dir.write("s.json", R"({"steps": 1024, "objects": [{"file": "tri.obj"}]})");
+  EXPECT_EQ(errorOf([&] { loadSceneFile(path); }), "(no error)");
+}

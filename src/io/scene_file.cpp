@@ -45,7 +45,11 @@ class SceneFile {
     if (doc.contains("steps") && options_.gltf.steps.steps == 0) {
       const json& s = doc["steps"];
       if (s.is_string() && s.get<std::string>() == "auto") opt.gltf.steps.steps = 0;
-      else opt.gltf.steps.steps = uint32_t(positiveInt(s, "steps"));
+      else {
+        const long long n = positiveInt(s, "steps");
+        if (n > 1024) fail("'steps' must be at most 1024 (each step is a copy of the meshes), got " + std::to_string(n));
+        opt.gltf.steps.steps = uint32_t(n);
+      }
     }
     SceneDescription out;
     out.name = path_;
