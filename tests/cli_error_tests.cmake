@@ -37,7 +37,15 @@ mbrt_cli_test(cli.error_exposure_nan CODE 2 OUT "--exposure: must be a number in
   ABSENT ${O}/exposure.png ARGS render ${S} --exposure nan -o ${O}/exposure.png)
 mbrt_cli_test(cli.error_aperture_nan CODE 2 OUT "--aperture: must be a number" ARGS render ${S} --aperture nan)
 mbrt_cli_test(cli.error_fps_inf CODE 2 OUT "--fps: must be a number" ARGS stats x.gltf --fps inf)
-mbrt_cli_test(cli.error_memory_budget_bad CODE 2 OUT "--memory-budget" ARGS stats ${S} --memory-budget lots)
+mbrt_cli_test(cli.error_memory_budget_bad CODE 2 OUT "--memory-budget: must be a whole number of bytes"
+  ARGS stats ${S} --memory-budget lots)
+# CLI11's own size parser wrapped these around to huge budgets.
+mbrt_cli_test(cli.error_memory_budget_negative CODE 2 OUT "--memory-budget: must be a whole number of bytes"
+  ARGS stats ${S} --memory-budget -5)
+mbrt_cli_test(cli.error_memory_budget_overflow CODE 2 OUT "got '16777216TiB': more than 2\\^64 - 1 bytes"
+  ARGS stats ${S} --memory-budget 16777216TiB)
+mbrt_cli_test(cli.error_generate_huge CODE 2 OUT "--generate: Value 200000000 not in range 1 to 119304647"
+  ARGS trace ${S} --generate 200000000 --rays ${O}/unused.bin)
 # Options that do not apply to the input are refused, not ignored.
 mbrt_cli_test(cli.error_motion_gltf CODE 2 OUT "--motion applies to static .obj and .ply meshes.*a glTF file"
   ARGS stats ${O}/any.gltf --motion rotate:90)

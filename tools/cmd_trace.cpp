@@ -102,7 +102,7 @@ void registerTraceCommand(CLI::App& app) {
   cmd->add_option("--hits", args->hits, "Hit file to write");
   cmd->add_option("--generate", args->generate,
                   "Write N random camera rays with random times to --rays (and trace them when --hits is given)")
-      ->check(CLI::Range(size_t(1), size_t(1) << 31));
+      ->check(CLI::Range(size_t(1), size_t(io::kMaxInputFileBytes / kRayRecordBytes)));  // a file mbrt reads back
   cmd->callback([args] { run(*args); });
 }
 

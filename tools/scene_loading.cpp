@@ -73,6 +73,35 @@ CLI::Validator seedValidator() {
       "UINT64", "Seed");
 }
 
+// "512MiB", "4g", "1000": a whole number of bytes with an optional binary
+// unit (k, m, g, t; with or without "b" / "ib"), replaced by the byte count.
+// Refuses signs, fractions and counts beyond 2^64 - 1 (CLI11's AsSizeValue
+// wraps -5 and 2^64 around).
+CLI::Validator byteCount() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        size_t digits = 0;
+        while (digits < value.size() && std::isdigit(static_cast<unsigned char>(value[digits]))) ++digits;
+        uint64_t n = 0;
+        const auto [ptr, ec] = std::from_chars(value.data(), value.data() + digits, n);
+        std::string unit = value.substr(digits);
+        std::transform(unit.begin(), unit.end(), unit.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        static const std::pair<const char*, int> kUnits[] = {
+            {"", 0},     {"b", 0},    {"k", 10},   {"kb", 10},  {"kib", 10}, {"m", 20},  {"mb", 20}, {"mib", 20},
+            {"g", 30},   {"gb", 30},  {"gib", 30}, {"t", 40},   {"tb", 40},  {"tib", 40}};
+        int shift = -1;
+        for (const auto& [name, bits] : kUnits)
+          if (unit == name) shift = bits;
+        const std::string bad = "must be a whole number of bytes with an optional unit (KiB, MiB, GiB, TiB), got '" +
+                                value + "'";
+        if (digits == 0 || ec != std::errc() || ptr != value.data() + digits || shift < 0) return bad;
+        if (shift > 0 && n > (UINT64_MAX >> shift)) return bad + ": more than 2^64 - 1 bytes";
+        value = std::to_string(n << shift);
+        return {};
+      },
+      "BYTES", "byte count");
+}
+
 }  // namespace
 
 CLI::Validator finiteIn(double lo, double hi, bool openLow) {
@@ -150,7 +179,7 @@ void addAccelOptions(CLI::App& cmd, AccelArgs& args) {
       ->capture_default_str();
   cmd.add_option("--memory-budget", args.memoryBudget,
                  "Memory the build may use, e.g. 512MiB or 4GiB (0: unlimited); a build that needs more fails")
-      ->transform(CLI::AsSizeValue(false))
+      ->transform(byteCount())
       ->capture_default_str();
 }
 
