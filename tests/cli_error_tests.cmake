@@ -170,3 +170,10 @@ mbrt_cli_test(cli.render_progress_plain PLAIN CODE 130 TIMEOUT 120
   SIGNAL INT "^mbrt: +[0-9.]+%  +[0-9.]+ Mrays/s"
   OUT "^mbrt: +[0-9.]+%  +[0-9.]+ Mrays/s  .* left$"
   ARGS render demo --size 0.25 --width 128 --height 128 --spp 4096 --tile 4 --threads 1 --progress -o ${O}/progress.png)
+# A long build (stopped after 3 s by SIGINT, exit 130) shows a spinner on a
+# terminal (a pseudo-terminal from script(1)) and nothing in a log.
+mbrt_cli_test(cli.stats_spinner_on_terminal CODE 130 TIMEOUT 60 REQUIRE /usr/bin/script
+  OUT "building fuzzykd . [0-9]+ s"
+  SHELL "exec script -qefc \"timeout --preserve-status -s INT 3 $MBRT stats crowd --size 2 --accel fuzzykd\" /dev/null")
+mbrt_cli_test(cli.stats_no_spinner_in_a_log CODE 130 TIMEOUT 60 PLAIN NO_OUT "building"
+  SHELL "exec timeout --preserve-status -s INT 3 \"$MBRT\" stats crowd --size 2 --accel fuzzykd")
