@@ -3,6 +3,7 @@
 // traversal work, PNG or EXR by the output's extension. Ctrl-C (SIGINT) or
 // SIGTERM stops the render, writes what was rendered and exits 130 or 143.
 #include <tbb/task_arena.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -65,7 +66,11 @@ extern "C" void onStopSignal(int sig) {
   gSignal.store(sig);
   gInterrupted.store(true);
   std::signal(sig, SIG_DFL);  // a second one ends the process at once
+  static const char kNote[] = "\nmbrt: stopping after the tiles in progress (again: stop at once)\n";
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, kNote, sizeof kNote - 1);  // async-signal-safe
 }
+
+const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : "SIGTERM"; }
 
 // Installs the SIGINT and SIGTERM handlers for the lifetime of a render.
 class StopSignalGuard {
@@ -247,6 +252,7 @@ void run(RenderArgs& args) {
   if (args.aperture >= 0.0f) loaded.camera.apertureRadius = args.aperture;
   if (args.focus >= 0.0f) loaded.camera.focusDistance = args.focus;
   std::printf("scene   %s\n", describeScene(loaded).c_str());
+  std::fflush(stdout);
 
   // One picture per structure: --accel, and --compare when given.
   std::vector<AccelArgs> kinds{args.accel};
@@ -261,11 +267,18 @@ void run(RenderArgs& args) {
     if (gInterrupted.load() && !results.empty()) break;  // interrupted: write what there is
     results.push_back(renderWith(loaded, kindArgs, opt, progress, *arena));
   }
+  const int sig = gSignal.load();
+  const bool anyTile = std::any_of(results.begin(), results.end(), [](const RenderResult& r) { return r.tilesDone > 0; });
+  if (sig != 0 && !anyTile) {
+    // Nothing rendered (stopped during the build): an old picture is worth more than a black one.
+    std::fprintf(stderr, "mbrt: stopped by %s before any tile was rendered: nothing written\n", signalName(sig));
+    throw ExitStatus(128 + sig);
+  }
   if (isHeatMap(opt.integrator)) rescaleHeat(results, opt);
   const Image picture = results.size() == 2 ? sideBySide(results[0].image, results[1].image) : results.front().image;
   writePicture(args, plan, picture);
-  if (const int sig = gSignal.load(); sig != 0) {
-    std::fprintf(stderr, "mbrt: stopped by %s: wrote the partial picture\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
+  if (sig != 0) {
+    std::fprintf(stderr, "mbrt: stopped by %s: wrote the partial picture\n", signalName(sig));
     throw ExitStatus(128 + sig);
   }
 }
