@@ -39,7 +39,7 @@ mbrt_cli_test(cli.error_aperture_nan CODE 2 OUT "--aperture: must be a number" A
 mbrt_cli_test(cli.error_fps_inf CODE 2 OUT "--fps: must be a number" ARGS stats x.gltf --fps inf)
 mbrt_cli_test(cli.error_memory_budget_bad CODE 2 OUT "--memory-budget: must be a whole number of bytes"
   ARGS stats ${S} --memory-budget lots)
-# CLI11's own size parser wrapped these around to huge budgets.
+# A sign or a count past 2^64 - 1 bytes is refused, not wrapped around.
 mbrt_cli_test(cli.error_memory_budget_negative CODE 2 OUT "--memory-budget: must be a whole number of bytes"
   ARGS stats ${S} --memory-budget -5)
 mbrt_cli_test(cli.error_memory_budget_overflow CODE 2 OUT "got '16777216TiB': more than 2\\^64 - 1 bytes"
@@ -59,7 +59,7 @@ mbrt_cli_test(cli.error_size_obj CODE 2 OUT "--size applies to built-in scenes" 
 mbrt_cli_test(cli.error_seed_stats_obj CODE 2 OUT "--seed applies to built-in scenes" ARGS stats ${S} --seed 3)
 mbrt_cli_test(cli.error_steps_sequence CODE 2 OUT "--steps applies to glTF"
   ARGS stats ${MBRT_CLI_DATA}/keys --steps 4)
-# The procedural motion's steps are capped: rotate:2e8 (2e7 steps) crashed.
+# The procedural motion's steps are capped (rotate:2e8 would need 2e7 copies of the mesh).
 mbrt_cli_test(cli.error_motion_steps_cap CODE 2
   OUT "--motion: motion 'rotate:2e8': rotating by 2e8 degrees needs 20000001 steps.*more than the limit of 1024"
   NO_OUT "^scene" ARGS stats --scene ${S} --motion rotate:2e8)
@@ -107,7 +107,7 @@ foreach(cmd stats trace render)
 endforeach()
 mbrt_cli_test(cli.stats_memory_budget OUT "^kind +bvh-interp" ARGS stats translate --size 0.005 --accel bvh-interp --memory-budget 64MiB)
 
-# Inputs that are not regular files are refused at once (a FIFO hung, /dev/zero filled memory).
+# Inputs that are not regular files are refused at once (a FIFO would block, /dev/zero never ends).
 foreach(ext obj ply json)
   mbrt_cli_test(cli.error_fifo_${ext} CODE 1 TIMEOUT 20 OUT "cannot read '.*fifo.${ext}': it is a FIFO"
     SETUP "rm -f ${O}/fifo.${ext} && mkfifo ${O}/fifo.${ext}"

@@ -118,7 +118,7 @@ TEST(FileAccess, InputsOverTheLimitAreRefused) {
 }
 
 TEST(FileAccess, EveryLoaderRefusesAFifoWithoutWaiting) {
-  // Each of these blocked forever on open() or read() before.
+  // Without the check each would block in open() or read() (no writer).
   TempDir dir;
   for (const char* name : {"f.obj", "f.ply", "f.json", "f.gltf", "f.glb"}) {
     const std::string path = dir.fifo(name);
@@ -131,8 +131,7 @@ TEST(FileAccess, EveryLoaderRefusesAFifoWithoutWaiting) {
 }
 
 TEST(FileAccess, DevZeroAsASceneIsRefusedAtOnce) {
-  // /dev/zero as .obj grew to 17 GB before "read error"; as a ray file it
-  // ran out of memory.
+  // Read as a file, /dev/zero never ends: memory would run out.
   TempDir dir;
   fs::create_symlink("/dev/zero", dir.file("zero.obj"));
   fs::create_symlink("/dev/zero", dir.file("zero.ply"));
@@ -159,7 +158,7 @@ TEST(FileAccess, AFailedWriteKeepsTheOldFile) {
 }
 
 TEST(FileAccess, OutputsGoThroughSymlinks) {
-  // The PNG writer removed the symlink itself when a write failed.
+  // A failed write must leave the link and its target as they were.
   TempDir dir;
   dir.write("target.png", "old");
   fs::create_symlink("target.png", dir.file("link.png"));
@@ -216,10 +215,10 @@ TEST(PngReader, ReadsWhatTheWriterWrote) {
   EXPECT_TRUE(contains(errorOf([&] { readPng(dir.write("bad.png", "not a png")); }), "as PNG"));
 }
 
-// ---- options of the loaders that used to be accepted and ignored or bent ---
+// ---- loader options that would otherwise be ignored or overflow ------------
 
 TEST(ProceduralMotion, StepsAreCapped) {
-  // rotate:2e8 asked for 2e7 steps and crashed the build.
+  // One step per 10 degrees: rotate:2e8 would need 2e7 copies of the mesh.
   EXPECT_EQ(parseProceduralMotion("rotate:10230").steps, kMaxProceduralMotionSteps);
   const std::string msg = errorOf([] { parseProceduralMotion("rotate:2e8"); });
   EXPECT_TRUE(contains(msg, "needs 20000001 steps")) << msg;

@@ -1,7 +1,6 @@
 #include "scene_loading.h"
 
 #include <tbb/info.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>

@@ -1,9 +1,6 @@
 // Wavefront OBJ: positions and polygon faces of one static mesh.
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <string>
 
 #include "io/file_access.h"

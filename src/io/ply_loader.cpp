@@ -1,11 +1,9 @@
 // PLY (ascii and binary little-endian): vertex positions and polygon faces.
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "io/file_access.h"

@@ -2,11 +2,8 @@
 // transforms and colours, camera, shutter, lights.
 #include <nlohmann/json.hpp>
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 
 #include "io/file_access.h"
