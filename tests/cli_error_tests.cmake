@@ -135,9 +135,9 @@ mbrt_cli_test(cli.error_output_no_folder CODE 1 OUT "cannot write '.*no_such_fol
 mbrt_cli_test(cli.error_hits_output_proc CODE 1 OUT "cannot write '/proc/hits.bin'" NO_OUT "^scene"
   FIXTURES_REQUIRED cli_rays ARGS trace ${S} --rays ${O}/rays.bin --hits /proc/hits.bin)
 mbrt_cli_test(cli.render_through_symlink
-  SETUP "rm -f ${O}/link.png ${O}/link_target.png && printf old > ${O}/link_target.png && ln -s link_target.png ${O}/link.png"
-  CHECK "image ${O}/link_target.png 8 8" AFTER "test -L ${O}/link.png" NO_TEMP ${O}
-  ARGS render ${S} --width 8 --height 8 --spp 1 -o ${O}/link.png)
+  SETUP "rm -rf ${O}/link && mkdir ${O}/link && printf old > ${O}/link/target.png && ln -s target.png ${O}/link/link.png"
+  CHECK "image ${O}/link/target.png 8 8" AFTER "test -L ${O}/link/link.png" NO_TEMP ${O}/link
+  ARGS render ${S} --width 8 --height 8 --spp 1 -o ${O}/link/link.png)
 # A write that fails half way (the file size limit: EFBIG, as a full disk
 # gives ENOSPC) leaves the old file and no temporary file.
 mbrt_cli_test(cli.error_write_fails_keeps_old CODE 1 OUT "cannot write '.*old.png': File too large"
@@ -157,11 +157,11 @@ foreach(sig INT TERM)
     set(code 143)
   endif()
   mbrt_cli_test(cli.render_sig${sig} CODE ${code} TIMEOUT 120
-    SETUP "rm -f ${O}/sig${sig}.png"
+    SETUP "rm -rf ${O}/sig${sig} && mkdir ${O}/sig${sig}"
     SIGNAL ${sig} "^accel "
     OUT "interrupted: [0-9]+ of [0-9]+ tiles rendered" "stopped by SIG${sig}: wrote the partial picture"
-    CHECK "image ${O}/sig${sig}.png 128 128" NO_TEMP ${O}
-    ARGS render demo --size 0.25 --width 128 --height 128 --spp 4096 --threads 1 -o ${O}/sig${sig}.png)
+    CHECK "image ${O}/sig${sig}/partial.png 128 128" NO_TEMP ${O}/sig${sig}
+    ARGS render demo --size 0.25 --width 128 --height 128 --spp 4096 --threads 1 -o ${O}/sig${sig}/partial.png)
 endforeach()
 
 # ---- progress: plain lines when stderr is not a terminal --------------------

@@ -13,6 +13,8 @@ file(WRITE ${MBRT_CLI_OUT}/bad_rays.bin "not a multiple of 36 bytes")
 add_executable(mbrt_cli_check ${PROJECT_SOURCE_DIR}/tests/cli/cli_check.cpp)
 target_link_libraries(mbrt_cli_check PRIVATE mbrt::mbrt)
 
+# Tests run in parallel: each writes its own files, and NO_TEMP looks at a
+# folder only that test writes to.
 # mbrt_cli_test(NAME [CODE n] [TIMEOUT s] [OUT regex...] [NO_OUT regex...]
 #               [CHECK "mode args"...] [EXISTS path...] [ABSENT path...] [NO_TEMP dir]
 #               [SETUP "shell"...] [AFTER "shell"...] [SIGNAL SIG regex] [REQUIRE path]
@@ -113,11 +115,11 @@ mbrt_cli_test(cli.trace_procedural_file
 mbrt_cli_test(cli.stats_default_kind OUT "^kind +stbvh " ARGS stats translate --size 0.005)
 
 mbrt_cli_test(cli.render
-  SETUP "rm -f ${O}/render.png"
+  SETUP "rm -rf ${O}/render && mkdir ${O}/render"
   OUT "^wrote +.*render.png$"
-  CHECK "image ${O}/render.png 32 18 nonblack"
-  NO_TEMP ${O}
-  ARGS render --scene ${MBRT_CLI_SCENE} --accel brute --width 32 --height 18 --spp 2 --out ${O}/render.png)
+  CHECK "image ${O}/render/render.png 32 18 nonblack"
+  NO_TEMP ${O}/render
+  ARGS render --scene ${MBRT_CLI_SCENE} --accel brute --width 32 --height 18 --spp 2 --out ${O}/render/render.png)
 
 # An OBJ keyframe sequence given as a glob (quoted on a shell command line).
 mbrt_cli_test(cli.stats_obj_sequence OUT "OBJ sequence: 2 keys" "^primitives +"
