@@ -21,6 +21,8 @@ mbrt_cli_test(cli.error_unknown_scene CODE 2 OUT "mbrt: error: unknown scene 'no
   ARGS stats --scene no-such-scene)
 mbrt_cli_test(cli.error_no_scene CODE 2 OUT "mbrt: error: no scene given" ARGS stats)
 mbrt_cli_test(cli.error_empty_scene CODE 2 OUT "mbrt: error: --scene" ARGS stats --scene=)
+mbrt_cli_test(cli.error_empty_positional_scene CODE 2 OUT "mbrt: error: the scene name is empty"
+  SHELL "exec \"$MBRT\" stats ''")
 mbrt_cli_test(cli.error_two_scenes CODE 2 OUT "two scenes given" ARGS stats translate --scene rotate)
 mbrt_cli_test(cli.error_bad_steps CODE 2 OUT "--steps must be a number" ARGS stats ${O}/any.gltf --steps zero)
 mbrt_cli_test(cli.error_size_negative CODE 2 OUT "--size: must be a number in \\(0, " ARGS stats translate --size -1)

@@ -117,6 +117,14 @@ TEST(FileAccess, InputsOverTheLimitAreRefused) {
   EXPECT_GE(io::kMaxInputFileBytes, uint64_t(1) << 30);  // real scenes and ray files fit
 }
 
+TEST(FileAccess, FilesReportingSizeZeroAreReadToTheirEnd) {
+  // /proc files are regular, report size 0 and have content.
+  const std::string status = io::readInputFile("/proc/self/status");
+  EXPECT_NE(status.find("Name:"), std::string::npos);
+  const std::string msg = errorOf([] { io::readInputFile("/proc/self/status", 16); });
+  EXPECT_TRUE(contains(msg, "more than the limit of 16 bytes")) << msg;
+}
+
 TEST(FileAccess, EveryLoaderRefusesAFifoWithoutWaiting) {
   // Without the check each would block in open() or read() (no writer).
   TempDir dir;

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <filesystem>
 #include <vector>
 
@@ -108,15 +109,27 @@ std::string readInputFile(const std::string& path, uint64_t limit) {
   if (size > limit)
     throw Error("cannot read '" + path + "': it has " + humanSize(size) + ", more than the limit of " +
                 humanSize(limit) + " for an input file");
-  std::string bytes(size_t(size), '\0');
+  // Files of /proc and /sys report size 0 and have content: read those to
+  // their end, within the limit; others only up to the size found.
+  const bool sizeUnknown = size == 0;
+  // Up to one byte over the limit, which tells a file that is too large.
+  const uint64_t most = sizeUnknown ? std::min<uint64_t>(limit, uint64_t(SIZE_MAX) - 1) + 1 : size;
+  std::string bytes(size_t(sizeUnknown ? std::min<uint64_t>(most, 1 << 16) : size), '\0');
   size_t done = 0;
-  while (done < bytes.size()) {
+  for (;;) {
+    if (done == bytes.size()) {
+      if (bytes.size() >= most) break;
+      bytes.resize(size_t(std::min<uint64_t>(uint64_t(bytes.size()) * 2, most)));
+    }
     const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw Error("cannot read '" + path + "': " + reason(errno));
-    if (n == 0) break;  // shrank while read: what is there
+    if (n == 0) break;  // the end (or the file shrank while read: what is there)
     done += size_t(n);
   }
+  if (sizeUnknown && done > limit)
+    throw Error("cannot read '" + path + "': it has more than the limit of " + humanSize(limit) +
+                " for an input file");
   bytes.resize(done);
   return bytes;
 }

@@ -28,7 +28,8 @@ constexpr uint64_t kMaxInputFileBytes = uint64_t(4) << 30;
 // The bytes of the regular file `path`. Throws Error naming the path when it
 // cannot be opened, is not a regular file (FIFO, device, folder, socket) or
 // is larger than `limit` bytes. Opening never waits (O_NONBLOCK), and at most
-// the size found when opening is read.
+// the size found when opening is read (files that report size 0, as in
+// /proc, are read to their end within the limit).
 std::string readInputFile(const std::string& path, uint64_t limit = kMaxInputFileBytes);
 
 // An istream over bytes in memory (readInputFile's), without a copy. The
