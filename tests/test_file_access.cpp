@@ -1,4 +1,4 @@
-// Guarded file access (src/io/file_access.h) and the loaders on hostile
+// Guarded file access (mbrt/io/file_access.h) and the loaders on hostile
 // files: FIFOs, devices and folders are refused at once, inputs over the
 // size limit are refused, outputs replace their file only when complete.
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "error_of.h"
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/io.h"
 #include "mbrt/loaders.h"

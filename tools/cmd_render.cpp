@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "commands.h"
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/render.h"
 #include "output_paths.h"

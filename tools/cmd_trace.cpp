@@ -10,7 +10,7 @@
 
 #include "camera.h"
 #include "commands.h"
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/ray_file.h"
 #include "output_paths.h"
 #include "scene_loading.h"

@@ -1,7 +1,7 @@
 // EXR output (and input, for tests) through OpenEXR, when built in.
 #include <string>
 
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/scene.h"
 

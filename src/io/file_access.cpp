@@ -1,4 +1,4 @@
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

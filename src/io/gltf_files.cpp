@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/scene.h"
 
 namespace mbrt::gltf {

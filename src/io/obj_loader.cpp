@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/io.h"
 
 namespace mbrt {

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <sstream>
 
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/io.h"
 
 namespace mbrt {

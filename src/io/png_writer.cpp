@@ -1,5 +1,5 @@
 // PNG output through libpng, encoded in memory and then written in one go
-// (io/file_access.h: a temporary file renamed into place), so that every I/O
+// (mbrt/io/file_access.h: a temporary file renamed into place), so that every I/O
 // failure is reported with the path and errno's reason.
 #include <png.h>
 
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <limits>
 
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/scene.h"  // Error
 

@@ -4,7 +4,7 @@
 
 #include <bit>
 
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/scene.h"  // Error
 
 namespace mbrt {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "io/file_access.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/loaders.h"
 
 namespace mbrt {
