@@ -19,7 +19,17 @@ trap 'rm -rf "$tmp"' EXIT
 cmake --install "$build_dir" --prefix "$tmp/prefix"
 cmake -S examples/consumer -B "$tmp/consumer-build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$tmp/prefix"
-cmake --build "$tmp/consumer-build" -j"$jobs"
+cmake --build "$tmp/consumer-build" -j"$jobs" -- -v > "$tmp/consumer-build.log"
+# The consumer links mbrt::accel alone: the kernel must not bring the
+# loaders' and images' libraries with it.
+if grep -E 'libpng|tinygltf|nlohmann|OpenEXR|libIex|libImath' "$tmp/consumer-build.log"; then
+  echo "test.sh: examples/consumer (mbrt::accel only) links an io library" >&2
+  exit 1
+fi
+if ldd "$tmp/consumer-build/consumer" | grep -E 'libpng|OpenEXR|Iex|Imath'; then
+  echo "test.sh: examples/consumer (mbrt::accel only) depends on an io library" >&2
+  exit 1
+fi
 "$tmp/consumer-build/consumer"
 "$tmp/prefix/bin/mbrt" --version
 

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "bench/bench.h"
+#include "mbrt/bench.h"
 
 using namespace mbrt;
 

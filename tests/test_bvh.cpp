@@ -7,12 +7,13 @@
 #include <random>
 #include <set>
 
-#include "bvh/build_wide.h"
-#include "bvh/bvh_structure.h"
+#include "bvh/build/build_wide.h"
+#include "bvh/kinds/bvh_structure.h"
 #include "bvh/inspect.h"
 #include "bvh/traverse.h"
-#include "core/scene_context.h"
-#include "geometry/primitive_bounds.h"
+#include "accel/structure_factory.h"
+#include "scene/scene_context.h"
+#include "scene/primitive_bounds.h"
 #include "mbrt/accel.h"
 #include "test_util.h"
 
@@ -203,7 +204,7 @@ TEST(Bvh, BoundsAreConservative) {
         o.branching = width;
         o.frozenTime = 0.7f;
         detail::BuildBudget budget;
-        detail::SceneContext ctx(*ts.scene, o, budget);
+        detail::SceneContext ctx(*ts.scene, o, budget, detail::makeStructure);
         auto structure = detail::makeStructure(ctx);
         const auto* inspect = dynamic_cast<const detail::BvhInspect*>(structure.get());
         ASSERT_NE(inspect, nullptr);

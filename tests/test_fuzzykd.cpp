@@ -11,9 +11,10 @@
 #include <set>
 #include <tuple>
 
-#include "accel/fuzzykd.h"
-#include "core/scene_context.h"
-#include "geometry/primitive_bounds.h"
+#include "fuzzykd/fuzzykd.h"
+#include "accel/structure_factory.h"
+#include "scene/scene_context.h"
+#include "scene/primitive_bounds.h"
 #include "kd/kd_builder.h"
 #include "kd/kd_traverse.h"
 #include "mbrt/loaders.h"
@@ -308,7 +309,6 @@ TEST(FuzzyKd, ClusterPictureColoursEachPixelByItsCluster) {
   bo.kind = AccelKind::FuzzyKd;
   const auto accel = Accel::build(*ps.scene, bo);
   const RenderResult r = render(desc, *accel, o);
-  const auto clusters = detail::fuzzyKdClusters(*ps.scene, bo);
   const RenderCamera camera(desc, o.width, o.height, o.shutterOpen, o.shutterClose);
   std::set<uint32_t> seen;
   size_t hits = 0;
@@ -321,7 +321,7 @@ TEST(FuzzyKd, ClusterPictureColoursEachPixelByItsCluster) {
         continue;
       }
       ++hits;
-      const uint32_t id = clusters[hit.geomID][hit.primID];
+      const uint32_t id = accel->clusterOf(hit.geomID, hit.primID);
       seen.insert(id);
       // The cluster's colour times a shade in [0.25, 1].
       const Vec3f base = id == ~0u ? Vec3f(0.5f) : renderer::clusterColor(id);

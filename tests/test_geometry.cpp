@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "core/scene_context.h"
-#include "geometry/primitive_bounds.h"
+#include "scene/scene_context.h"
+#include "scene/primitive_bounds.h"
 #include "geometry/segment_intersect.h"
 #include "geometry/triangle_intersect.h"
 #include "test_util.h"

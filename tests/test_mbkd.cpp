@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <random>
 
-#include "accel/mbkd.h"
-#include "core/scene_context.h"
+#include "kd/mbkd.h"
+#include "scene/scene_context.h"
 #include "kd/kd_builder.h"
 #include "kd/kd_leaf_blocks.h"
 #include "oracle.h"

@@ -9,9 +9,10 @@
 #include <random>
 
 #include "bvh/inspect.h"
-#include "core/scene_context.h"
+#include "accel/structure_factory.h"
+#include "scene/scene_context.h"
 #include "geometry/clip.h"
-#include "geometry/primitive_bounds.h"
+#include "scene/primitive_bounds.h"
 #include "msbvh/key_bounds.h"
 #include "msbvh/msbvh.h"
 #include "msbvh/sbvh_builder.h"

@@ -15,6 +15,9 @@ struct Case {
   AccelKind kind;
 };
 
+// Test listings (and CTest names) print "crowd / stbvh", not the bytes.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.scene << " / " << toString(c.kind); }
+
 std::vector<Case> allCases() {
   std::vector<Case> cases;
   for (const std::string& scene : proceduralSceneNames())

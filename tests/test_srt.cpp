@@ -4,8 +4,9 @@
 
 #include <random>
 
-#include "core/scene_context.h"
-#include "geometry/primitive_bounds.h"
+#include "accel/structure_factory.h"
+#include "scene/scene_context.h"
+#include "scene/primitive_bounds.h"
 #include "geometry/srt_bounds.h"
 #include "mbrt/accel.h"
 #include "mbrt/quaternion.h"
@@ -135,7 +136,7 @@ TEST(Srt, BoundsAreConservativeForTheCurvedPath) {
     BuildOptions o;
     o.kind = AccelKind::Brute;
     detail::BuildBudget budget;
-    detail::SceneContext ctx(scene, o, budget);
+    detail::SceneContext ctx(scene, o, budget, detail::makeStructure);
     const Geometry& g = scene.geometry(0);
     const detail::PrimRef ref{0, 0};
     const TimeRange range{0.1f + 0.05f * u(rng), 0.8f + 0.1f * u(rng)};

@@ -7,12 +7,13 @@
 
 #include <cmath>
 
-#include "bvh/binned_sah.h"
-#include "bvh/bvh_structure.h"
+#include "bvh/heuristics/binned_sah.h"
+#include "bvh/kinds/bvh_structure.h"
 #include "bvh/inspect.h"
-#include "bvh/temporal_split.h"
-#include "core/scene_context.h"
-#include "geometry/primitive_bounds.h"
+#include "bvh/heuristics/temporal_split.h"
+#include "accel/structure_factory.h"
+#include "scene/scene_context.h"
+#include "scene/primitive_bounds.h"
 #include "mbrt/accel.h"
 #include "mbrt/scenes.h"
 

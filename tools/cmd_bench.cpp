@@ -7,7 +7,7 @@
 #include <memory>
 #include <sstream>
 
-#include "bench/bench.h"
+#include "mbrt/bench.h"
 #include "bench_scenes.h"
 #include "commands.h"
 #include "mbrt/ray_file.h"

@@ -10,67 +10,12 @@
 #include <string_view>
 #include <vector>
 
+#include "mbrt/accel_stats.h"
+#include "mbrt/build_options.h"
 #include "mbrt/ray.h"
 #include "mbrt/scene.h"
 
 namespace mbrt {
-
-enum class AccelKind {
-  Brute,        // tests every primitive: the oracle
-  BvhInterp,    // BVH with linear bounds over the whole shutter
-  BvhSegments,  // one linear-bounds BVH per global time segment
-  Frozen,       // static BVH of the scene frozen at BuildOptions::frozenTime
-  Stbvh,        // Woop et al. 2017
-  Msbvh,        // Grünschloß et al. 2011
-  Mbkd,         // Yang et al. 2017
-  FuzzyKd,      // Günther et al. 2006
-  Embree,       // Intel Embree 3, when built in
-};
-
-std::string_view toString(AccelKind kind);
-std::optional<AccelKind> parseAccelKind(std::string_view name);
-// The kinds this build of mbrt can construct, in a stable order.
-std::vector<AccelKind> availableAccelKinds();
-
-struct BuildOptions {
-  AccelKind kind = AccelKind::BvhInterp;
-  int branching = 8;          // BVH node width: 2, 4 or 8
-  int maxLeafSize = 8;        // primitives per BVH leaf at most
-  int sahBins = 32;           // bins of the binned SAH
-  float traversalCost = 1.0f;     // C_T of the SAH (intersection cost is 1)
-  float frozenTime = 0.5f;    // time of the `frozen` kind
-  size_t memoryBudget = 0;    // bytes the build may use; 0 = unlimited
-  int maxInstanceDepth = 8;   // nesting of instances
-};
-
-// Structure statistics. sahCost follows DESIGN.md's one formula for all
-// kinds (C_T = C_I = 1, areas averaged over time, MBSAH segment counts).
-struct AccelStats {
-  std::string kind;
-  size_t primitives = 0;        // triangles + segments + instances, all levels
-  size_t references = 0;        // primitive references in leaves
-  size_t innerNodes = 0;
-  size_t leafNodes = 0;
-  size_t maxDepth = 0;
-  size_t bytes = 0;             // structure memory, excluding vertex buffers
-  size_t peakBuildBytes = 0;    // largest memory in use during the build
-  double sahCost = 0.0;
-  double buildSeconds = 0.0;
-  uint64_t invalidRays = 0;     // rays refused since the build
-};
-
-// Per-ray work, for the papers' metrics (DESIGN.md): nodes visited, box tests
-// (an 8-wide node is 8) and ray-primitive tests.
-struct TraversalCounters {
-  uint64_t rays = 0;
-  uint64_t nodesVisited = 0;
-  uint64_t boxTests = 0;
-  uint64_t primitiveTests = 0;
-  uint64_t maxNodesVisited = 0;
-  uint64_t maxPrimitiveTests = 0;
-
-  void add(const TraversalCounters& o);
-};
 
 namespace detail {
 class Structure;
@@ -101,6 +46,11 @@ class Accel {
   // Updates bounds without changing the topology where the kind supports it
   // (returns true); otherwise rebuilds and returns false.
   bool refit();
+
+  // The group a primitive of the top-level scene was placed in by kinds that
+  // decompose the scene (fuzzykd: its motion cluster, Günther et al. §4), for
+  // pictures and statistics; kInvalidId for other kinds and bad ids.
+  uint32_t clusterOf(uint32_t geomID, uint32_t primID) const;
 
   AccelStats stats() const;
   const BuildOptions& options() const { return options_; }

@@ -25,18 +25,12 @@
 #include <string>
 #include <vector>
 
+#include "mbrt/error.h"
 #include "mbrt/math.h"
 #include "mbrt/quaternion.h"
 #include "mbrt/ray.h"
 
 namespace mbrt {
-
-// Every error mbrt reports: bad scenes, bad options, bad files, exceeded
-// memory budgets. The message says what and where.
-class Error : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // Coordinates beyond this magnitude are refused: products of two of them must
 // stay finite in float.
@@ -233,5 +227,11 @@ class Scene {
   std::vector<std::unique_ptr<Geometry>> geometries_;
   uint64_t version_ = 0;
 };
+
+// Bounds of a scene over the whole shutter: every vertex at every step
+// (segments padded by their radii) and, for instances, the corners of their
+// scene's bounds under every key. For camera framing and ray offsets; not
+// conservative between rotating instance keys, so not for traversal.
+Box3f sceneBounds(const Scene& scene);
 
 }  // namespace mbrt

@@ -7,7 +7,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/scene_context.h"
+#include "accel/structure_factory.h"
+#include "scene/scene_context.h"
 
 namespace mbrt {
 
@@ -70,7 +71,7 @@ namespace detail {
 class Owned final : public Structure {
  public:
   Owned(const Scene& scene, const BuildOptions& options)
-      : budget_(options.memoryBudget), context_(scene, options, budget_), inner_(makeStructure(context_)) {}
+      : budget_(options.memoryBudget), context_(scene, options, budget_, makeStructure), inner_(makeStructure(context_)) {}
   bool intersect(RayQuery& ray, Hit& hit) const override { return inner_->intersect(ray, hit); }
   bool occluded(RayQuery& ray) const override { return inner_->occluded(ray); }
   bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
@@ -83,6 +84,7 @@ class Owned final : public Structure {
     s.peakBuildBytes = budget_.peak();
   }
   bool refit() override { return inner_->refit(); }
+  uint32_t clusterOf(PrimRef ref) const override { return inner_->clusterOf(ref); }
 
  private:
   BuildBudget budget_;
@@ -177,6 +179,11 @@ void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> out) const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
   });
+}
+
+uint32_t Accel::clusterOf(uint32_t geomID, uint32_t primID) const {
+  if (geomID >= scene_->numGeometries() || primID >= scene_->geometry(geomID).numPrimitives()) return kInvalidId;
+  return structure_->clusterOf({geomID, primID});
 }
 
 AccelStats Accel::stats() const {

@@ -1,6 +1,6 @@
 #include "accel/brute.h"
 
-#include "geometry/primitive_intersect.h"
+#include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
 namespace {

@@ -1,14 +1,16 @@
 // Maps accel kinds to their builders.
 #include <array>
 
+#include "accel/structure_factory.h"
+
 #include "accel/brute.h"
-#include "accel/bvh_interp.h"
-#include "accel/bvh_segments.h"
-#include "accel/frozen.h"
-#include "accel/fuzzykd.h"
-#include "accel/mbkd.h"
-#include "accel/stbvh.h"
-#include "core/scene_context.h"
+#include "bvh/kinds/bvh_interp.h"
+#include "bvh/kinds/bvh_segments.h"
+#include "bvh/kinds/frozen.h"
+#include "fuzzykd/fuzzykd.h"
+#include "kd/mbkd.h"
+#include "bvh/kinds/stbvh.h"
+#include "scene/scene_context.h"
 #include "msbvh/msbvh.h"
 #ifdef MBRT_HAVE_EMBREE
 #include "embree/embree_structure.h"

@@ -1,5 +1,5 @@
 // The benchmark engine: rays, builds, timings, counters and hit agreement.
-#include "bench/bench.h"
+#include "mbrt/bench.h"
 
 #include <tbb/combinable.h>
 #include <tbb/info.h>

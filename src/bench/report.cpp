@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "bench/bench.h"
+#include "mbrt/bench.h"
 
 namespace mbrt::bench {
 namespace {

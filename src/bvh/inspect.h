@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "bvh/wide_bvh.h"
+#include "bvh/nodes/wide_bvh.h"
 
 namespace mbrt::detail {
 

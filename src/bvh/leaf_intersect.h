@@ -8,7 +8,7 @@
 // per-reference path. (STBVH §4: leaves are tested at the ray's time.)
 #pragma once
 
-#include "geometry/primitive_intersect.h"
+#include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
 

@@ -1,40 +1,14 @@
-// The SAH cost of DESIGN.md, one formula for every kind (C_T = C_I = 1):
-//   ( sum_inner A(n) T(n) + sum_leaves A(l) T(l) seg(l) ) / A(scene)
-// A: surface area averaged over 8 times spread over the node's time range;
-// T: length of that range; seg: active primitive segments (MBSAH, STBVH §3.2).
+// The SAH sums of a wide BVH (core/sah_sums.h gives the formula).
 #pragma once
 
 #include <algorithm>
 #include <span>
 
-#include "bvh/wide_bvh.h"
-#include "core/scene_context.h"
+#include "bvh/nodes/wide_bvh.h"
+#include "core/sah_sums.h"
+#include "scene/scene_area.h"
 
 namespace mbrt::detail {
-
-// Surface area of lerp(b0, b1, t) averaged over t = lo + (hi - lo) * k / 7,
-// k = 0..7 (t in the bounds' own parameter).
-double meanSurfaceArea(const LBounds& b, float lo = 0.0f, float hi = 1.0f);
-
-// A(scene): surface area of the union of every primitive's bounds over the
-// whole shutter [0,1]; the denominator shared by every kind. A pass over
-// every primitive: computed when stats are asked for, not in the build.
-double sceneSahArea(const SceneContext& ctx);
-
-// Sums of one or more trees, turned into AccelStats by `fill`.
-struct SahSums {
-  double inner = 0.0, leaves = 0.0;
-  size_t innerNodes = 0, leafNodes = 0, references = 0, maxDepth = 0, bytes = 0;
-
-  void fill(AccelStats& s, double sceneArea) const {
-    s.innerNodes = innerNodes;
-    s.leafNodes = leafNodes;
-    s.references = references;
-    s.maxDepth = maxDepth;
-    s.bytes = bytes;
-    s.sahCost = sceneArea > 0.0 ? (inner + leaves) / sceneArea : 0.0;
-  }
-};
 
 template <int N, bool Motion, class SegOf>
 void addLaneCosts(const WideBvh<N, Motion>& bvh, uint32_t index, TimeRange range, double T, const SegOf& segOf,

@@ -8,8 +8,8 @@
 #include <limits>
 #include <vector>
 
-#include "bvh/robust_slab.h"
-#include "bvh/wide_bvh.h"
+#include "core/robust_slab.h"
+#include "bvh/nodes/wide_bvh.h"
 #include "bvh/leaf_intersect.h"
 
 namespace mbrt::detail {

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <string>
 
-#include "mbrt/scene.h"
+#include "mbrt/error.h"
 
 namespace mbrt::detail {
 

@@ -2,8 +2,10 @@
 // validates rays and counts statistics around it.
 #pragma once
 
-#include "geometry/ray_query.h"
-#include "mbrt/accel.h"
+#include "core/prim_ref.h"
+#include "core/ray_query.h"
+#include "mbrt/accel_stats.h"
+#include "mbrt/ray.h"
 
 namespace mbrt::detail {
 
@@ -20,6 +22,9 @@ class Structure {
   // Updates bounds for new vertex data without a new topology; false when
   // the structure cannot do that.
   virtual bool refit() { return false; }
+  // The cluster a primitive belongs to in kinds that decompose the scene;
+  // kInvalidId elsewhere.
+  virtual uint32_t clusterOf(PrimRef) const { return kInvalidId; }
 };
 
 }  // namespace mbrt::detail

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "geometry/ray_query.h"
+#include "core/ray_query.h"
 
 namespace mbrt::detail {
 

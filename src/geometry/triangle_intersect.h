@@ -4,7 +4,7 @@
 // edge or vertex of a closed mesh.
 #pragma once
 
-#include "geometry/ray_query.h"
+#include "core/ray_query.h"
 
 namespace mbrt::detail {
 

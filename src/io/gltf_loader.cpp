@@ -8,7 +8,6 @@
 #include <map>
 
 #include "io/gltf_internal.h"
-#include "scenes/scene_makers.h"
 
 namespace mbrt {
 namespace {
@@ -386,7 +385,7 @@ class Loader {
       }
       note("camera " + std::to_string(m.nodes[size_t(cameraNode_)].camera) + " is not perspective; framing automatically");
     }
-    cam.keys = {frameBox(scenes::sceneBounds(*out.scene))};
+    cam.keys = {frameBox(sceneBounds(*out.scene))};
     return cam;
   }
 

@@ -5,7 +5,6 @@
 
 #include "mbrt/loaders.h"
 #include "mbrt/scenes.h"
-#include "scenes/scene_makers.h"
 
 namespace mbrt {
 namespace {
@@ -27,7 +26,7 @@ SceneDescription staticMesh(const std::string& path, ObjMesh mesh, const LoadOpt
 
 }  // namespace
 
-CameraSpec frameScene(const Scene& scene) { return frameBox(scenes::sceneBounds(scene)); }
+CameraSpec frameScene(const Scene& scene) { return frameBox(sceneBounds(scene)); }
 
 SceneDescription loadSceneSpec(const std::string& spec, const LoadOptions& options, LoadReport* report) {
   const auto names = proceduralSceneNames();

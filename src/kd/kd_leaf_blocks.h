@@ -15,10 +15,10 @@
 #include <functional>
 #include <vector>
 
-#include "bvh/robust_slab.h"
-#include "bvh/simd.h"
-#include "core/scene_context.h"
-#include "geometry/ray_query.h"
+#include "core/robust_slab.h"
+#include "core/simd.h"
+#include "scene/scene_context.h"
+#include "core/ray_query.h"
 #include "kd/kd_node.h"
 
 namespace mbrt::detail {

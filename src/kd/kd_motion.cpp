@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "geometry/primitive_bounds.h"
+#include "scene/primitive_bounds.h"
 
 namespace mbrt::detail {
 namespace {

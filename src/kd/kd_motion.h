@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "core/scene_context.h"
+#include "scene/scene_context.h"
 
 namespace mbrt::detail {
 

@@ -14,8 +14,8 @@
 
 #include <cmath>
 
-#include "bvh/robust_slab.h"
-#include "geometry/primitive_intersect.h"
+#include "core/robust_slab.h"
+#include "scene/primitive_intersect.h"
 #include "kd/kd_node.h"
 
 namespace mbrt::detail {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "geometry/clip.h"
-#include "geometry/primitive_bounds.h"
+#include "scene/primitive_bounds.h"
 
 namespace mbrt::detail {
 

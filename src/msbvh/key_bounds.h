@@ -32,8 +32,8 @@
 #include <functional>
 #include <vector>
 
-#include "bvh/spatial_split.h"
-#include "core/scene_context.h"
+#include "bvh/heuristics/spatial_split.h"
+#include "scene/scene_context.h"
 
 namespace mbrt::detail {
 

@@ -8,7 +8,7 @@
 
 #include <memory>
 
-#include "core/scene_context.h"
+#include "scene/scene_context.h"
 
 namespace mbrt::detail {
 

@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "bvh/spatial_split.h"
+#include "bvh/heuristics/spatial_split.h"
 
 namespace mbrt::detail {
 

@@ -3,7 +3,6 @@
 #include <numbers>
 
 #include "mbrt/render.h"
-#include "render/scene_bounds.h"
 
 namespace mbrt {
 namespace {
@@ -58,7 +57,7 @@ RenderCamera::RenderCamera(const SceneDescription& scene, int width, int height,
   if (!(aperture_ >= 0.0f) || !std::isfinite(aperture_)) throw Error("render: camera aperture must be >= 0");
   if (!(focusDistance_ >= 0.0f) || !std::isfinite(focusDistance_))
     throw Error("render: camera focus distance must be >= 0");
-  if (keys_.empty()) keys_.push_back(frameBounds(renderer::sceneBounds(*scene.scene)));
+  if (keys_.empty()) keys_.push_back(frameBounds(sceneBounds(*scene.scene)));
   for (const CameraSpec& k : keys_) {
     const Vec3f w = k.eye - k.target;
     if (!isFinite(k.eye) || !isFinite(k.target) || !isFinite(k.up) || dot(w, w) <= 0.0f ||

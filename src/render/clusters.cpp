@@ -32,9 +32,7 @@ SampleResult traceClusters(const Context& ctx, const Ray& ray, Sampler&) {
   if (!ctx.accel.intersect(ray, hit)) return out;  // black background
   const Surface s = surfaceAt(ctx.scene, ray, hit);
   uint32_t cluster = ~0u;
-  if (hit.instID == kInvalidId && ctx.clusters && hit.geomID < ctx.clusters->size() &&
-      hit.primID < (*ctx.clusters)[hit.geomID].size())
-    cluster = (*ctx.clusters)[hit.geomID][hit.primID];
+  if (hit.instID == kInvalidId) cluster = ctx.accel.clusterOf(hit.geomID, hit.primID);
   const Vec3f base = cluster == ~0u ? Vec3f(0.5f) : clusterColor(cluster);
   const float facing = std::abs(dot(s.n, normalize(ray.dir)));
   out.color = base * (0.25f + 0.75f * facing);

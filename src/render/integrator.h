@@ -16,8 +16,6 @@ struct Context {
   const RenderOptions& options;
   float aoDistance = 1.0f;  // occlusion ray length
   float epsilon = 1e-4f;    // ray offset off surfaces, scaled to the scene
-  // `clusters`: fuzzykd's cluster per [geomID][primID] (~0u: none).
-  const std::vector<std::vector<uint32_t>>* clusters = nullptr;
 };
 
 // What one camera sample returns: a colour, or for heat maps a work count

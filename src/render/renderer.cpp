@@ -7,11 +7,9 @@
 #include <chrono>
 #include <mutex>
 
-#include "accel/fuzzykd.h"
 #include "mbrt/render.h"
 #include "render/film.h"
 #include "render/integrator.h"
-#include "render/scene_bounds.h"
 
 namespace mbrt {
 namespace {
@@ -86,7 +84,7 @@ RenderResult render(const SceneDescription& scene, const Accel& accel, const Ren
   const auto start = std::chrono::steady_clock::now();
   const RenderCamera camera(scene, o.width, o.height, o.shutterOpen, o.shutterClose);
 
-  const Box3f bounds = renderer::sceneBounds(*scene.scene);
+  const Box3f bounds = sceneBounds(*scene.scene);
   float diagonal = bounds.empty() ? 1.0f : length(bounds.size());
   if (!(diagonal > 0.0f) || !std::isfinite(diagonal)) diagonal = 1.0f;
   renderer::Context ctx{scene, accel, o};
@@ -103,16 +101,9 @@ RenderResult render(const SceneDescription& scene, const Accel& accel, const Ren
     case IntegratorKind::HeatIsects: trace = renderer::traceHeat; break;
     case IntegratorKind::Clusters: trace = renderer::traceClusters; break;
   }
-  // The clusters of the structure rendered (its build is deterministic, so
-  // building the decomposition again gives the same clusters).
-  std::vector<std::vector<uint32_t>> clusters;
-  if (o.integrator == IntegratorKind::Clusters) {
-    if (accel.options().kind != AccelKind::FuzzyKd)
-      throw Error("render: the clusters integrator needs the fuzzykd structure, not " +
-                  std::string(toString(accel.options().kind)));
-    clusters = detail::fuzzyKdClusters(accel.scene(), accel.options());
-    ctx.clusters = &clusters;
-  }
+  if (o.integrator == IntegratorKind::Clusters && accel.options().kind != AccelKind::FuzzyKd)
+    throw Error("render: the clusters integrator needs the fuzzykd structure, not " +
+                std::string(toString(accel.options().kind)));
   const bool heat = isHeatMap(o.integrator);
 
   renderer::Film film(o.width, o.height, heat);

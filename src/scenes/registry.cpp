@@ -67,33 +67,6 @@ CameraSpec frameBox(const Box3f& box) {
 
 namespace scenes {
 
-Box3f sceneBounds(const Scene& scene) {
-  Box3f b;
-  for (uint32_t id = 0; id < scene.numGeometries(); ++id) {
-    const Geometry& g = scene.geometry(id);
-    if (g.type() == GeometryType::Instance) {
-      const Box3f child = sceneBounds(*g.instancedScene());
-      if (child.empty()) continue;
-      for (const Affine3f& m : g.transforms())
-        for (int c = 0; c < 8; ++c)
-          b.extend(m.xfmPoint({c & 1 ? child.upper.x : child.lower.x, c & 2 ? child.upper.y : child.lower.y,
-                               c & 4 ? child.upper.z : child.lower.z}));
-      continue;
-    }
-    const auto radii = g.radii();
-    for (uint32_t s = 0; s < g.numSteps(); ++s) {
-      const VertexBuffer& vb = g.vertices(s);
-      for (size_t i = 0; i < vb.count; ++i) {
-        const Vec3f p = vb[i];
-        const float r = i < radii.size() ? radii[i] : 0.0f;
-        b.extend(p - Vec3f(r));
-        b.extend(p + Vec3f(r));
-      }
-    }
-  }
-  return b;
-}
-
 CameraSpec viewFrom(const Box3f& box, Vec3f direction, float verticalFovDegrees, float margin) {
   CameraSpec cam;
   cam.verticalFovDegrees = verticalFovDegrees;

@@ -17,9 +17,6 @@ ProceduralScene makeDeform(double size, uint64_t seed);
 ProceduralScene makeSkinned(double size, uint64_t seed);
 ProceduralScene makeDemo(double size, uint64_t seed);
 
-// Bounds of every vertex (or instanced box corner) at every step.
-Box3f sceneBounds(const Scene& scene);
-
 // A camera looking at the box's centre from `direction` (need not be unit),
 // far enough back that the box's bounding sphere fills the vertical field of
 // view (times `margin`).

@@ -1,0 +1,40 @@
+// What a structure reports of itself (AccelStats) and of the work a ray
+// did (TraversalCounters): the papers' metrics, one definition for all kinds.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace mbrt {
+
+// Structure statistics. sahCost follows DESIGN.md's one formula for all
+// kinds (C_T = C_I = 1, areas averaged over time, MBSAH segment counts).
+struct AccelStats {
+  std::string kind;
+  size_t primitives = 0;        // triangles + segments + instances, all levels
+  size_t references = 0;        // primitive references in leaves
+  size_t innerNodes = 0;
+  size_t leafNodes = 0;
+  size_t maxDepth = 0;
+  size_t bytes = 0;             // structure memory, excluding vertex buffers
+  size_t peakBuildBytes = 0;    // largest memory in use during the build
+  double sahCost = 0.0;
+  double buildSeconds = 0.0;
+  uint64_t invalidRays = 0;     // rays refused since the build
+};
+
+// Per-ray work, for the papers' metrics (DESIGN.md): nodes visited, box tests
+// (an 8-wide node is 8) and ray-primitive tests.
+struct TraversalCounters {
+  uint64_t rays = 0;
+  uint64_t nodesVisited = 0;
+  uint64_t boxTests = 0;
+  uint64_t primitiveTests = 0;
+  uint64_t maxNodesVisited = 0;
+  uint64_t maxPrimitiveTests = 0;
+
+  void add(const TraversalCounters& o);
+};
+
+}  // namespace mbrt

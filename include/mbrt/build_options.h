@@ -1,0 +1,39 @@
+// Which structure to build and how: the kinds and the build options.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace mbrt {
+
+enum class AccelKind {
+  Brute,        // tests every primitive: the oracle
+  BvhInterp,    // BVH with linear bounds over the whole shutter
+  BvhSegments,  // one linear-bounds BVH per global time segment
+  Frozen,       // static BVH of the scene frozen at BuildOptions::frozenTime
+  Stbvh,        // Woop et al. 2017
+  Msbvh,        // Grünschloß et al. 2011
+  Mbkd,         // Yang et al. 2017
+  FuzzyKd,      // Günther et al. 2006
+  Embree,       // Intel Embree 3, when built in
+};
+
+std::string_view toString(AccelKind kind);
+std::optional<AccelKind> parseAccelKind(std::string_view name);
+// The kinds this build of mbrt can construct, in a stable order.
+std::vector<AccelKind> availableAccelKinds();
+
+struct BuildOptions {
+  AccelKind kind = AccelKind::BvhInterp;
+  int branching = 8;          // BVH node width: 2, 4 or 8
+  int maxLeafSize = 8;        // primitives per BVH leaf at most
+  int sahBins = 32;           // bins of the binned SAH
+  float traversalCost = 1.0f;     // C_T of the SAH (intersection cost is 1)
+  float frozenTime = 0.5f;    // time of the `frozen` kind
+  size_t memoryBudget = 0;    // bytes the build may use; 0 = unlimited
+  int maxInstanceDepth = 8;   // nesting of instances
+};
+
+}  // namespace mbrt

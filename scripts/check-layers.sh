@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Fails when a file of the library or the command includes a header of a
+# higher layer (docs/architecture.md). The allowed edges are written here and
+# nowhere else.
+#
+#   bash scripts/check-layers.sh [ROOT]     ROOT: the source tree (default: this one)
+#
+# A module is a folder of src/ (its first component), tools/, or the module a
+# public header include/mbrt/NAME.h belongs to (PUBLIC below). A file may
+# include its own module and the modules listed for it in ALLOWED. Modules in
+# PUBLIC_ONLY see other modules only through their public headers.
+set -euo pipefail
+root="${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
+
+# Lowest layer first: core -> geometry -> scene -> kinds -> accel -> scenes/io/render/bench -> tools.
+declare -A ALLOWED=(
+  [core]=""
+  [geometry]="core"
+  [scene]="core geometry"
+  [bvh]="core geometry scene"
+  [msbvh]="core geometry scene bvh"
+  [kd]="core geometry scene"
+  [decompose]="core geometry scene"
+  [fuzzykd]="core geometry scene decompose kd"
+  [embree]="core geometry scene"
+  [accel]="core geometry scene bvh msbvh kd decompose fuzzykd embree"
+  [scenes]="core scene"
+  [io]="core scene scenes"
+  [render]="core scene accel scenes io"
+  [bench]="core scene accel scenes io"
+  [tools]="core scene accel scenes io render bench"
+)
+# The module of each public header.
+declare -A PUBLIC=(
+  [error.h]=core [math.h]=core [quaternion.h]=core [ray.h]=core
+  [build_options.h]=core [accel_stats.h]=core
+  [scene.h]=scene [scene_bounds.h]=scene
+  [accel.h]=accel
+  [scenes.h]=scenes
+  [gltf.h]=io [io.h]=io [loaders.h]=io [image.h]=io [ray_file.h]=io [scene_description.h]=io
+  [render.h]=render
+  [bench.h]=bench
+)
+PUBLIC_ONLY=" io render bench tools scenes "
+
+module_of_include() {  # "mbrt/x.h" or "dir/x.h" -> module; empty for a file of the includer's own folder
+  local inc="$1"
+  if [[ "$inc" == mbrt/* ]]; then
+    local name="${inc#mbrt/}"
+    [[ "$name" == io/* ]] && { echo io; return; }
+    echo "${PUBLIC[$name]:-unknown-public:$name}"
+  elif [[ "$inc" == */* ]]; then
+    echo "${inc%%/*}"
+  fi
+}
+
+failures=0
+check_file() {  # file module
+  local file="$1" mod="$2" inc target
+  while IFS= read -r inc; do
+    target="$(module_of_include "$inc")"
+    [ -z "$target" ] && continue
+    [ "$target" = "$mod" ] && continue
+    if [[ "$target" == unknown-public:* ]]; then
+      echo "check-layers: ${file#$root/}: includes \"$inc\", a public header with no module (add it to PUBLIC in scripts/check-layers.sh)"
+      failures=$((failures + 1)); continue
+    fi
+    if [[ " ${ALLOWED[$mod]} " != *" $target "* ]]; then
+      echo "check-layers: ${file#$root/}: $mod includes \"$inc\" of $target, a layer it may not include"
+      failures=$((failures + 1)); continue
+    fi
+    if [[ "$PUBLIC_ONLY" == *" $mod "* && "$inc" != mbrt/* ]]; then
+      echo "check-layers: ${file#$root/}: $mod includes the private header \"$inc\" of $target (use its public header)"
+      failures=$((failures + 1))
+    fi
+  done < <(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$file")
+}
+
+count=0
+while IFS= read -r -d '' f; do
+  rel="${f#$root/src/}"; mod="${rel%%/*}"
+  if [ -z "${ALLOWED[$mod]+x}" ]; then
+    echo "check-layers: src/$rel: folder '$mod' has no layer (add it to ALLOWED in scripts/check-layers.sh)"
+    failures=$((failures + 1)); continue
+  fi
+  check_file "$f" "$mod"; count=$((count + 1))
+done < <(find "$root/src" -type f \( -name '*.h' -o -name '*.cpp' \) -print0)
+while IFS= read -r -d '' f; do
+  rel="${f#$root/include/mbrt/}"
+  if [[ "$rel" == io/* ]]; then mod=io; else mod="${PUBLIC[$rel]:-}"; fi
+  if [ -z "$mod" ]; then
+    echo "check-layers: include/mbrt/$rel: a public header with no module (add it to PUBLIC)"
+    failures=$((failures + 1)); continue
+  fi
+  check_file "$f" "$mod"; count=$((count + 1))
+done < <(find "$root/include/mbrt" -type f -name '*.h' -print0)
+while IFS= read -r -d '' f; do
+  check_file "$f" tools; count=$((count + 1))
+done < <(find "$root/tools" -type f \( -name '*.h' -o -name '*.cpp' \) -print0)
+
+if [ "$failures" -ne 0 ]; then
+  echo "check-layers: $failures upward or private includes in $count files"
+  exit 1
+fi
+echo "check-layers: $count files, no upward include"

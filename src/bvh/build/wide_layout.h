@@ -1,0 +1,38 @@
+// The wide nodes as the parallel build makes them (children before their
+// parent, in whatever order the threads finish), and their layout into a
+// WideBvh: nodes and leaf primitives in one fixed depth-first order, so the
+// tree is bit-identical whatever the thread count of the build.
+#pragma once
+
+#include <memory>
+
+#include <tbb/concurrent_vector.h>
+
+#include "bvh/build/builder.h"
+#include "bvh/nodes/wide_bvh.h"
+
+namespace mbrt::detail {
+
+template <int N, bool Motion>
+struct UnorderedWideBvh {
+  static constexpr uint32_t kNone = 0xFFFFFFFFu;
+  // Inner lanes' `child` index `nodes`, leaf lanes' index `prims`, `times` of
+  // a node indexes `times`.
+  tbb::concurrent_vector<WideNode<N, Motion>> nodes;
+  tbb::concurrent_vector<LaneTimes<N>> times;
+  tbb::concurrent_vector<PrimRef> prims;
+  uint32_t root = kNone;
+  GrowingCharge charge;  // the storage above, as it grows
+
+  explicit UnorderedWideBvh(BuildBudget& budget) : charge(budget) {}
+  // Built in place (concurrent_vector's moves are not to be relied on).
+  UnorderedWideBvh(const UnorderedWideBvh&) = delete;
+  UnorderedWideBvh& operator=(const UnorderedWideBvh&) = delete;
+};
+
+// Lays `tree` out into `out` (replaced) from its root; charges `out`'s
+// storage to `budget`.
+template <int N, bool Motion>
+void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget);
+
+}  // namespace mbrt::detail

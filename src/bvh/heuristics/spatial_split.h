@@ -1,0 +1,59 @@
+// Spatial splits (SBVH, Stich et al. 2009; MSBVH §2): binning along each
+// axis of a node box where every reference is *clipped* to each bin it
+// overlaps, and the split itself with reference unsplitting. Knows
+// references and boxes, never trees.
+//
+// References carry a `region`: the box cut out of space by the spatial split
+// planes above them (infinite at first). A spatial split divides a
+// reference's region into two halves, so the regions of the references of
+// one primitive always tile space, whatever the primitive looks like: this
+// is what lets a structure bound each reference's *piece* (the primitive
+// clipped to its region) at another time and still cover the whole
+// primitive (see src/msbvh/key_bounds.h).
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "scene/scene_context.h"
+
+namespace mbrt::detail {
+
+struct SplitRef {
+  Box3f box;     // bounds of the primitive's piece in `region` at the build time
+  Box3f region;  // the part of space this reference stands for
+  PrimRef prim{0, 0};
+};
+
+// Tight bounds of a primitive's part inside `box` at the build time; empty
+// when none of it is there.
+struct RefClipper {
+  virtual ~RefClipper() = default;
+  virtual Box3f clip(PrimRef prim, const Box3f& box) const = 0;
+};
+
+// Splits one reference at the plane x[axis] = pos into two pieces; false
+// (outputs untouched) when one side would be empty.
+bool splitReference(const SplitRef& ref, int axis, float pos, const RefClipper& clipper, SplitRef& left,
+                    SplitRef& right);
+
+struct SpatialSplit {
+  int axis = -1;
+  float pos = 0.0f;
+  float cost = kInf;  // areaL*countL + areaR*countR (half-areas, unnormalised)
+  size_t leftCount = 0, rightCount = 0;
+  bool valid() const { return axis >= 0; }
+};
+
+// Best spatial split of the references over `nodeBox` with `numBins` bins
+// per axis; invalid when no plane separates anything.
+SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
+                              const RefClipper& clipper);
+
+// Performs the split: references wholly on one side go there; straddling
+// ones are split, or kept whole on one side where that costs less
+// (unsplitting). Returns the number of references added.
+size_t applySpatialSplit(std::span<const SplitRef> refs, const SpatialSplit& split, const RefClipper& clipper,
+                         std::vector<SplitRef>& left, std::vector<SplitRef>& right);
+
+}  // namespace mbrt::detail

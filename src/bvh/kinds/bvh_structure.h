@@ -1,0 +1,97 @@
+// What the wide-BVH kinds (`bvh-interp`, `stbvh`, `frozen`) have in common:
+// one WideBvh traced by traverse.h and its bytes. Each
+// kind only says how it builds the tree and counts its SAH.
+#pragma once
+
+#include <memory>
+
+#include "bvh/build/build_wide.h"
+#include "bvh/inspect.h"
+#include "bvh/heuristics/temporal_split.h"
+#include "bvh/traverse.h"
+#include "scene/branching.h"
+#include "scene/primitive_bounds.h"
+
+namespace mbrt::detail {
+
+// Linear bounds of each primitive over the whole shutter (STBVH Fig. 4),
+// global by construction: the root references of `bvh-interp` and `stbvh`.
+struct ShutterRefs final : RefMaker {
+  const SceneContext& ctx;
+  explicit ShutterRefs(const SceneContext& c) : ctx(c) {}
+  bool make(PrimRef prim, BuildRef& out) const override {
+    out.prim = prim;
+    out.bounds = linearBounds(ctx, prim, {0.0f, 1.0f});
+    out.active = activeSegments(ctx, prim, {0.0f, 1.0f});
+    out.total = totalSegments(ctx, prim);
+    out.range = {0.0f, 1.0f};
+    return true;
+  }
+};
+
+// What temporal splits need of a scene (STBVH §3.3): each primitive's steps,
+// and its reference remade for part of the shutter with linear bounds over
+// exactly that part (Fig. 4), local to it (the nodes get the global form):
+// `stbvh`'s TemporalSource.
+struct SceneTiming final : TemporalSource {
+  const SceneContext& ctx;
+  explicit SceneTiming(const SceneContext& c) : ctx(c) {}
+  TimeRange stepRange(PrimRef prim, uint32_t& segments) const override {
+    const Geometry& g = ctx.geometry(prim.geomID);
+    segments = g.numSteps() - 1;
+    return g.timeRange();
+  }
+  bool remake(const BuildRef& ref, TimeRange range, BuildRef& out) const override {
+    // Alive somewhere in the half-open range (a geometry range ending at 1
+    // contains 1, but a half-open range starting at 1 is empty).
+    const TimeRange alive = ctx.geometry(ref.prim.geomID).timeRange();
+    if (!(alive.lo < range.hi && alive.hi > range.lo)) return false;
+    out.prim = ref.prim;
+    out.bounds = linearBounds(ctx, ref.prim, range);
+    out.active = activeSegments(ctx, ref.prim, range);
+    out.total = ref.total;
+    out.range = range;
+    return true;
+  }
+};
+
+// Motion trees interpolate the node boxes at the ray's time; a static tree
+// (`frozen`) sees every ray at its one time `frozenTime`.
+template <int N, bool Motion>
+class WideBvhStructure : public Structure, public BvhInspect {
+ public:
+  bool intersect(RayQuery& ray, Hit& hit) const override {
+    return traverse<false, false>(bvh_, ctx_, ray, boxTime(ray), &hit, nullptr);
+  }
+  bool occluded(RayQuery& ray) const override {
+    return traverse<true, false>(bvh_, ctx_, ray, boxTime(ray), nullptr, nullptr);
+  }
+  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
+    return traverse<false, true>(bvh_, ctx_, ray, boxTime(ray), &hit, &c);
+  }
+  std::vector<uint8_t> bytes() const override {
+    std::vector<uint8_t> out;
+    appendBytes(bvh_, out);
+    return out;
+  }
+
+ protected:
+  explicit WideBvhStructure(const SceneContext& ctx, float frozenTime = 0.0f)
+      : ctx_(ctx), frozenTime_(frozenTime) {}
+
+  const SceneContext& ctx_;
+  WideBvh<N, Motion> bvh_;
+
+ private:
+  float boxTime(RayQuery& ray) const {
+    if constexpr (Motion) {
+      return ray.time;
+    } else {
+      ray.time = frozenTime_;
+      return 0.0f;
+    }
+  }
+  float frozenTime_;
+};
+
+}  // namespace mbrt::detail

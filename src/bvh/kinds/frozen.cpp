@@ -1,0 +1,61 @@
+#include "bvh/kinds/frozen.h"
+
+#include "bvh/kinds/bvh_structure.h"
+#include "bvh/sah_cost.h"
+
+namespace mbrt::detail {
+namespace {
+
+// The (widened) box of each primitive at the frozen time.
+struct FrozenRefs final : RefMaker {
+  const SceneContext& ctx;
+  float time;
+  FrozenRefs(const SceneContext& c, float t) : ctx(c), time(t) {}
+  bool make(PrimRef prim, BuildRef& out) const override {
+    if (!ctx.geometry(prim.geomID).timeRange().contains(time)) return false;  // not there at T
+    out.prim = prim;
+    out.bounds = LBounds(widen(boxAt(ctx, prim, time)));
+    out.active = 1;  // a static scene: one segment per primitive
+    out.total = 1;
+    out.range = {0.0f, 1.0f};
+    return true;
+  }
+};
+
+template <int N>
+class Frozen final : public WideBvhStructure<N, false> {
+  using Base = WideBvhStructure<N, false>;
+  using Base::bvh_;
+  using Base::ctx_;
+
+ public:
+  // Every ray sees the scene at the frozen time.
+  explicit Frozen(const SceneContext& ctx) : Base(ctx, ctx.options().frozenTime), time_(ctx.options().frozenTime) {
+    const std::vector<PrimRef> prims = ctx.primitives();
+    buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_);
+  }
+
+  void fillStats(AccelStats& s) const override {
+    SahSums sums;
+    addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
+    sums.fill(s, sceneSahArea(ctx_));
+  }
+
+  void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
+    if (bvh_.empty()) return;
+    walkLanes(bvh_, 0, [&](const WideNode<N, false>& node, int lane, std::span<const PrimRef> below) {
+      fn(LaneView{{time_, time_}, [&node, lane](float) { return node.boxAt(lane, 0.0f); }, below});
+    });
+  }
+
+ private:
+  float time_;
+};
+
+}  // namespace
+
+std::unique_ptr<Structure> makeFrozen(const SceneContext& context) {
+  return makeForBranching<Frozen>(context);
+}
+
+}  // namespace mbrt::detail
