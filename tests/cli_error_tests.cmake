@@ -59,6 +59,8 @@ mbrt_cli_test(cli.error_shutter_obj CODE 2 OUT "--shutter applies to glTF and JS
   ARGS trace ${S} --shutter 0,1 --generate 10 --rays ${O}/unused.bin)
 mbrt_cli_test(cli.error_size_obj CODE 2 OUT "--size applies to built-in scenes" ARGS stats ${S} --size 2)
 mbrt_cli_test(cli.error_seed_stats_obj CODE 2 OUT "--seed applies to built-in scenes" ARGS stats ${S} --seed 3)
+mbrt_cli_test(cli.error_accel_without_tracing CODE 2 OUT "--accel applies when rays are traced"
+  ARGS trace ${S} --generate 10 --rays ${O}/unused.bin --accel bvh-interp)
 mbrt_cli_test(cli.error_steps_sequence CODE 2 OUT "--steps applies to glTF"
   ARGS stats ${MBRT_CLI_DATA}/keys --steps 4)
 # The procedural motion's steps are capped (rotate:2e8 would need 2e7 copies of the mesh).

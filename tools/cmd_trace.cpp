@@ -52,19 +52,22 @@ void checkArgs(TraceArgs& args) {
   if (args.generate > 0) refuseSamePath("--rays", args.rays, "the scene", args.scene.scene);
   if (args.generate > 0) io::checkOutputPath(args.rays);
   if (!args.hits.empty()) io::checkOutputPath(args.hits);
+  if (args.hits.empty())  // --generate alone builds nothing
+    for (const char* option : {"--accel", "--branching", "--leaf-size", "--time", "--memory-budget"})
+      if (args.scene.cmd->count(option) > 0)
+        throw UsageError(std::string(option) + " applies when rays are traced: give --hits FILE with --generate");
 }
 
 void run(TraceArgs& args) {
   checkArgs(args);
-  const LoadedScene loaded = loadScene(args.scene);
   std::vector<Ray> rays;
+  if (args.generate == 0) rays = readRays(args.rays);  // a bad ray file fails before the scene loads
+  const LoadedScene loaded = loadScene(args.scene);
   if (args.generate > 0) {
     rays = generateRays(loaded, args.generate, args.scene.seed);
     writeRays(args.rays, rays);
     std::printf("wrote %zu random camera rays to %s\n", rays.size(), args.rays.c_str());
     if (args.hits.empty()) return;
-  } else {
-    rays = readRays(args.rays);
   }
 
   auto accel = buildAccel(*loaded.scene, args.accel, /*progress=*/true);
