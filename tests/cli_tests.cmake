@@ -1,145 +1,191 @@
-# Runs the `mbrt` command on a tiny OBJ scene (included by the top-level
-# CMakeLists.txt when both tests and tools are built).
+# Tests of the `mbrt` command (included by the top-level CMakeLists.txt when
+# both tests and tools are built). Each runs tests/cli/run_cli_test.sh, which
+# checks the exit status, what was printed and the files written (with
+# mbrt_cli_check: images decode to their size, hit files of the same rays
+# and kind are identical, ray files round-trip).
 set(MBRT_CLI_SCENE ${PROJECT_SOURCE_DIR}/tests/data/cube.obj)
+set(MBRT_CLI_DATA ${PROJECT_SOURCE_DIR}/tests/data)
 set(MBRT_CLI_OUT ${PROJECT_BINARY_DIR}/cli_test_output)
+set(MBRT_CLI_RUNNER ${PROJECT_SOURCE_DIR}/tests/cli/run_cli_test.sh)
 file(MAKE_DIRECTORY ${MBRT_CLI_OUT})
 file(WRITE ${MBRT_CLI_OUT}/bad_rays.bin "not a multiple of 36 bytes")
 
-add_test(NAME cli.version COMMAND mbrt_cli --version)
-set_tests_properties(cli.version PROPERTIES PASS_REGULAR_EXPRESSION "^mbrt ${PROJECT_VERSION}")
+add_executable(mbrt_cli_check ${PROJECT_SOURCE_DIR}/tests/cli/cli_check.cpp)
+target_link_libraries(mbrt_cli_check PRIVATE mbrt::mbrt)
 
-add_test(NAME cli.stats COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel brute)
-set_tests_properties(cli.stats PROPERTIES PASS_REGULAR_EXPRESSION "primitives +12")
+# Tests run in parallel: each writes its own files, and NO_TEMP looks at a
+# folder only that test writes to.
+# mbrt_cli_test(NAME [CODE n] [TIMEOUT s] [OUT regex...] [NO_OUT regex...]
+#               [CHECK "mode args"...] [EXISTS path...] [ABSENT path...] [NO_TEMP dir]
+#               [SETUP "shell"...] [AFTER "shell"...] [SIGNAL SIG regex] [REQUIRE path]
+#               [PLAIN] [FIXTURES_SETUP name] [FIXTURES_REQUIRED name]
+#               [SHELL "shell command line"] | ARGS mbrt arguments...)
+# CODE defaults to 0; a missing REQUIRE path makes the test skipped (77).
+function(mbrt_cli_test name)
+  cmake_parse_arguments(PARSE_ARGV 1 T "PLAIN" "CODE;TIMEOUT;REQUIRE;NO_TEMP;FIXTURES_SETUP;FIXTURES_REQUIRED;SHELL"
+                        "OUT;NO_OUT;CHECK;EXISTS;ABSENT;SETUP;AFTER;SIGNAL;ARGS")
+  set(cmd bash ${MBRT_CLI_RUNNER} --checker $<TARGET_FILE:mbrt_cli_check>)
+  if(DEFINED T_CODE)
+    list(APPEND cmd --code ${T_CODE})
+  endif()
+  if(DEFINED T_TIMEOUT)
+    list(APPEND cmd --timeout ${T_TIMEOUT})
+  endif()
+  if(DEFINED T_REQUIRE)
+    list(APPEND cmd --require ${T_REQUIRE})
+  endif()
+  if(DEFINED T_NO_TEMP)
+    list(APPEND cmd --no-temp ${T_NO_TEMP})
+  endif()
+  if(T_PLAIN)
+    list(APPEND cmd --no-control-codes)
+  endif()
+  foreach(kind OUT NO_OUT CHECK EXISTS ABSENT SETUP AFTER)
+    string(TOLOWER ${kind} flag)
+    string(REPLACE "_" "-" flag ${flag})
+    foreach(value IN LISTS T_${kind})
+      list(APPEND cmd --${flag} "${value}")
+    endforeach()
+  endforeach()
+  if(T_SIGNAL)
+    list(APPEND cmd --signal ${T_SIGNAL})
+  endif()
+  if(DEFINED T_SHELL)
+    # $MBRT stands for the command in the shell line.
+    list(APPEND cmd -- env MBRT=$<TARGET_FILE:mbrt_cli> bash -c "${T_SHELL}")
+  else()
+    list(APPEND cmd -- $<TARGET_FILE:mbrt_cli> ${T_ARGS})
+  endif()
+  add_test(NAME ${name} COMMAND ${cmd})
+  # The runner stops the command after its own timeout; CTest's is a backstop.
+  if(DEFINED T_TIMEOUT)
+    math(EXPR ctest_timeout "${T_TIMEOUT} + 60")
+  else()
+    set(ctest_timeout 180)
+  endif()
+  set_tests_properties(${name} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT ${ctest_timeout})
+  if(T_FIXTURES_SETUP)
+    set_tests_properties(${name} PROPERTIES FIXTURES_SETUP ${T_FIXTURES_SETUP})
+  endif()
+  if(T_FIXTURES_REQUIRED)
+    set_tests_properties(${name} PROPERTIES FIXTURES_REQUIRED ${T_FIXTURES_REQUIRED})
+  endif()
+endfunction()
 
-add_test(NAME cli.stats_json COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel brute --json)
-set_tests_properties(cli.stats_json PROPERTIES PASS_REGULAR_EXPRESSION "\"primitives\": 12,")
+set(O ${MBRT_CLI_OUT})
 
-add_test(NAME cli.trace_generate
-         COMMAND mbrt_cli trace --scene ${MBRT_CLI_SCENE} --accel brute --generate 2000
-                 --rays ${MBRT_CLI_OUT}/rays.bin --hits ${MBRT_CLI_OUT}/hits.bin)
-set_tests_properties(cli.trace_generate PROPERTIES
-  PASS_REGULAR_EXPRESSION "rays +2000: [1-9][0-9]* hits, [1-9][0-9]* misses, 0 invalid"
-  FIXTURES_SETUP cli_rays)
+# ---- basic runs: exit 0 and the files they write ----------------------------
+mbrt_cli_test(cli.version OUT "^mbrt ${PROJECT_VERSION}$" ARGS --version)
+mbrt_cli_test(cli.stats OUT "^primitives +12$" "^kind +brute" ARGS stats --scene ${MBRT_CLI_SCENE} --accel brute)
+mbrt_cli_test(cli.stats_json OUT "\"primitives\": 12," "^}$" ARGS stats --scene ${MBRT_CLI_SCENE} --accel brute --json)
+# The positional scene, as render takes it.
+mbrt_cli_test(cli.stats_positional OUT "^primitives +12$" ARGS stats ${MBRT_CLI_SCENE} --accel brute)
 
-add_test(NAME cli.trace_file
-         COMMAND mbrt_cli trace --scene ${MBRT_CLI_SCENE} --accel brute
-                 --rays ${MBRT_CLI_OUT}/rays.bin --hits ${MBRT_CLI_OUT}/hits2.bin)
-set_tests_properties(cli.trace_file PROPERTIES
-  PASS_REGULAR_EXPRESSION "rays +2000: [1-9][0-9]* hits"
-  FIXTURES_REQUIRED cli_rays)
+# Rays generated and traced in memory, then read back from the file and
+# traced again with the same kind: the file round-trips and the two hit
+# files are the same bytes.
+mbrt_cli_test(cli.trace_generate
+  SETUP "rm -f ${O}/rays.bin ${O}/hits.bin"
+  OUT "rays +2000: [1-9][0-9]* hits, [1-9][0-9]* misses, 0 invalid" "^wrote +.*hits.bin$"
+  CHECK "rays ${O}/rays.bin 2000" "hits ${O}/hits.bin 2000"
+  FIXTURES_SETUP cli_rays
+  ARGS trace --scene ${MBRT_CLI_SCENE} --accel brute --generate 2000 --rays ${O}/rays.bin --hits ${O}/hits.bin)
+mbrt_cli_test(cli.trace_file
+  SETUP "rm -f ${O}/hits2.bin"
+  OUT "rays +2000: [1-9][0-9]* hits"
+  CHECK "same ${O}/hits.bin ${O}/hits2.bin"
+  FIXTURES_REQUIRED cli_rays
+  ARGS trace ${MBRT_CLI_SCENE} --accel brute --rays ${O}/rays.bin --hits ${O}/hits2.bin)
 
-add_test(NAME cli.render
-         COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --accel brute --width 32 --height 18 --spp 2
-                 --out ${MBRT_CLI_OUT}/render.png)
-set_tests_properties(cli.render PROPERTIES PASS_REGULAR_EXPRESSION "wrote +.*render.png")
+# A moving built-in scene with the default structure (stbvh, as every
+# subcommand's default), and its ray file traced again.
+mbrt_cli_test(cli.trace_procedural
+  SETUP "rm -f ${O}/translate_rays.bin ${O}/translate_hits.bin"
+  OUT "^accel +stbvh," "rays +1000: [1-9][0-9]* hits, [0-9]+ misses, 0 invalid"
+  CHECK "rays ${O}/translate_rays.bin 1000" "hits ${O}/translate_hits.bin 1000"
+  FIXTURES_SETUP cli_translate_rays
+  ARGS trace --scene translate --size 0.005 --generate 1000
+       --rays ${O}/translate_rays.bin --hits ${O}/translate_hits.bin)
+mbrt_cli_test(cli.trace_procedural_file
+  SETUP "rm -f ${O}/translate_hits2.bin"
+  OUT "^accel +stbvh,"
+  CHECK "same ${O}/translate_hits.bin ${O}/translate_hits2.bin"
+  FIXTURES_REQUIRED cli_translate_rays
+  ARGS trace translate --size 0.005 --accel stbvh --rays ${O}/translate_rays.bin --hits ${O}/translate_hits2.bin)
+mbrt_cli_test(cli.stats_default_kind OUT "^kind +stbvh " ARGS stats translate --size 0.005)
 
-# Errors: a message, no crash, the documented exit codes (2 usage, 1 failure).
-add_test(NAME cli.error_bad_accel COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel nope)
-set_tests_properties(cli.error_bad_accel PROPERTIES
-  PASS_REGULAR_EXPRESSION "mbrt: error: .*unknown accel kind 'nope' \\(available: brute")
-add_test(NAME cli.error_bad_accel_code COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --accel nope)
-set_tests_properties(cli.error_bad_accel_code PROPERTIES WILL_FAIL TRUE)
-
-add_test(NAME cli.error_bad_ray_file
-         COMMAND mbrt_cli trace --scene ${MBRT_CLI_SCENE} --accel brute
-                 --rays ${MBRT_CLI_OUT}/bad_rays.bin --hits ${MBRT_CLI_OUT}/bad_hits.bin)
-set_tests_properties(cli.error_bad_ray_file PROPERTIES
-  PASS_REGULAR_EXPRESSION "mbrt: error: .*bad_rays.bin: size 26 bytes is not a multiple of 36")
-
-add_test(NAME cli.error_missing_scene COMMAND mbrt_cli stats --scene ${MBRT_CLI_OUT}/missing.obj --accel brute)
-set_tests_properties(cli.error_missing_scene PROPERTIES
-  PASS_REGULAR_EXPRESSION "mbrt: error: cannot open '.*missing.obj'")
-
-add_test(NAME cli.error_no_subcommand COMMAND mbrt_cli)
-set_tests_properties(cli.error_no_subcommand PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: ")
-
-# A small built-in scene with the default structure.
-add_test(NAME cli.trace_procedural
-         COMMAND mbrt_cli trace --scene translate --size 0.005 --generate 1000
-                 --rays ${MBRT_CLI_OUT}/translate_rays.bin --hits ${MBRT_CLI_OUT}/translate_hits.bin)
-set_tests_properties(cli.trace_procedural PROPERTIES
-  PASS_REGULAR_EXPRESSION "rays +1000: [1-9][0-9]* hits, [0-9]+ misses, 0 invalid")
-add_test(NAME cli.error_unknown_scene COMMAND mbrt_cli stats --scene no-such-scene)
-set_tests_properties(cli.error_unknown_scene PROPERTIES
-  PASS_REGULAR_EXPRESSION "mbrt: error: unknown scene 'no-such-scene'.*translate")
+mbrt_cli_test(cli.render
+  SETUP "rm -rf ${O}/render && mkdir ${O}/render"
+  OUT "^wrote +.*render.png$"
+  CHECK "image ${O}/render/render.png 32 18 nonblack"
+  NO_TEMP ${O}/render
+  ARGS render --scene ${MBRT_CLI_SCENE} --accel brute --width 32 --height 18 --spp 2 --out ${O}/render/render.png)
 
 # An OBJ keyframe sequence given as a glob (quoted on a shell command line).
-add_test(NAME cli.stats_obj_sequence
-         COMMAND mbrt_cli stats --scene ${PROJECT_SOURCE_DIR}/tests/data/keys/key_*.obj --accel brute --load-info)
-set_tests_properties(cli.stats_obj_sequence PROPERTIES
-  PASS_REGULAR_EXPRESSION "OBJ sequence: 2 keys")
-add_test(NAME cli.error_bad_steps COMMAND mbrt_cli stats --scene ${MBRT_CLI_SCENE} --steps zero)
-set_tests_properties(cli.error_bad_steps PROPERTIES
-  PASS_REGULAR_EXPRESSION "--steps must be a number")
-# `mbrt render`: the demo by default, heat maps, EXR, errors.
-add_test(NAME cli.render_default_demo
-         COMMAND mbrt_cli render --size 0.25 --width 32 --height 24 --spp 1 -o ${MBRT_CLI_OUT}/demo.png)
-set_tests_properties(cli.render_default_demo PROPERTIES
-  PASS_REGULAR_EXPRESSION "scene +demo.*render +[a-z-]+: 32x24, 1 spp.*Mrays/s.*wrote +.*demo.png")
-add_test(NAME cli.render_positional_heat
-         COMMAND mbrt_cli render demo --size 0.25 --accel bvh-segments --integrator heat-steps
-                 --width 32 --height 24 --spp 1 --threads 1 -o ${MBRT_CLI_OUT}/heat.png)
-set_tests_properties(cli.render_positional_heat PROPERTIES
-  PASS_REGULAR_EXPRESSION "accel +bvh-segments.*heat +bvh-segments: nodes visited per primary ray: mean [0-9.]+.*colour bar 0 \\.\\.")
-add_test(NAME cli.render_compare
-         COMMAND mbrt_cli render hairball --size 0.002 --accel bvh-interp --compare bvh-segments
-                 --integrator heat-isects --width 24 --height 24 --spp 1 -o ${MBRT_CLI_OUT}/compare.png)
-set_tests_properties(cli.render_compare PROPERTIES
-  PASS_REGULAR_EXPRESSION "heat +bvh-interp: intersection tests.*heat +bvh-segments: intersection tests.*wrote")
+mbrt_cli_test(cli.stats_obj_sequence OUT "OBJ sequence: 2 keys" "^primitives +"
+  ARGS stats --scene ${MBRT_CLI_DATA}/keys/key_*.obj --accel brute --load-info)
+
+# ---- `mbrt render`: the demo by default, heat maps, EXR ---------------------
+mbrt_cli_test(cli.render_default_demo
+  SETUP "rm -f ${O}/demo.png"
+  OUT "^scene +demo" "^accel +stbvh," "^render +stbvh: 32x24, 1 spp.*Mrays/s" "^wrote +.*demo.png$"
+  CHECK "image ${O}/demo.png 32 24 nonblack"
+  ARGS render --size 0.25 --width 32 --height 24 --spp 1 -o ${O}/demo.png)
+mbrt_cli_test(cli.render_positional_heat
+  SETUP "rm -f ${O}/heat.png"
+  OUT "^accel +bvh-segments" "^heat +bvh-segments: nodes visited per primary ray: mean [0-9.]+" "colour bar 0 \\.\\."
+  CHECK "image ${O}/heat.png 32 36 nonblack"  # 24 rows and the colour bar
+  ARGS render demo --size 0.25 --accel bvh-segments --integrator heat-steps
+       --width 32 --height 24 --spp 1 --threads 1 -o ${O}/heat.png)
+mbrt_cli_test(cli.render_compare
+  SETUP "rm -f ${O}/compare.png"
+  OUT "^heat +bvh-interp: intersection tests" "^heat +bvh-segments: intersection tests" "^wrote"
+  CHECK "image ${O}/compare.png 52 36 nonblack"  # 24 + 4 + 24 wide
+  ARGS render hairball --size 0.002 --accel bvh-interp --compare bvh-segments
+       --integrator heat-isects --width 24 --height 24 --spp 1 -o ${O}/compare.png)
 if(MBRT_WITH_OPENEXR)
-  add_test(NAME cli.render_exr
-           COMMAND mbrt_cli render --scene demo --size 0.25 --integrator ao --width 16 --height 12 --spp 1
-                   -o ${MBRT_CLI_OUT}/demo.exr)
-  set_tests_properties(cli.render_exr PROPERTIES PASS_REGULAR_EXPRESSION "wrote +.*demo.exr")
+  mbrt_cli_test(cli.render_exr
+    SETUP "rm -f ${O}/demo.exr"
+    OUT "^wrote +.*demo.exr$"
+    CHECK "image ${O}/demo.exr 16 12 nonblack"
+    ARGS render --scene demo --size 0.25 --integrator ao --width 16 --height 12 --spp 1 -o ${O}/demo.exr)
 else()
-  add_test(NAME cli.render_exr
-           COMMAND mbrt_cli render --scene demo --size 0.25 --width 16 --height 12 -o ${MBRT_CLI_OUT}/demo.exr)
-  set_tests_properties(cli.render_exr PROPERTIES PASS_REGULAR_EXPRESSION "EXR support is not built")
+  mbrt_cli_test(cli.render_exr CODE 1 OUT "EXR support is not built" NO_OUT "^scene"
+    ARGS render --scene demo --size 0.25 --width 16 --height 12 -o ${O}/demo.exr)
 endif()
-add_test(NAME cli.error_render_format COMMAND mbrt_cli render --scene demo -o ${MBRT_CLI_OUT}/demo.jpg)
-set_tests_properties(cli.error_render_format PROPERTIES
-  PASS_REGULAR_EXPRESSION "mbrt: error: cannot tell the image format of '.*demo.jpg': use a .png or .exr")
-add_test(NAME cli.error_render_integrator COMMAND mbrt_cli render --scene demo --integrator nope)
-set_tests_properties(cli.error_render_integrator PROPERTIES
-  PASS_REGULAR_EXPRESSION "mbrt: error: unknown integrator 'nope' \\(available: normals, ao, path")
-add_test(NAME cli.error_render_shutter COMMAND mbrt_cli render --scene demo --shutter 0.5,0.2)
-set_tests_properties(cli.error_render_shutter PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*shutter")
-# `mbrt bench`: rays from a file, and a real scene by name when ../shared is there.
-add_test(NAME cli.bench_rays_file_make
-         COMMAND mbrt_cli trace --scene translate --size 0.005 --generate 2000 --rays ${MBRT_CLI_OUT}/bench_rays.bin)
-add_test(NAME cli.bench_rays_file
-         COMMAND mbrt_cli bench --quick --scene translate --size 0.005 --accel bvh-interp,stbvh --repeats 1
-                 --frozen-times 2 --rays-file ${MBRT_CLI_OUT}/bench_rays.bin --svg ${MBRT_CLI_OUT}/bench.svg)
-set_tests_properties(cli.bench_rays_file PROPERTIES DEPENDS cli.bench_rays_file_make
-  PASS_REGULAR_EXPRESSION "translate \\([0-9]+ primitives, 2000 rays\\).*\\| stbvh \\|")
-if(EXISTS "${PROJECT_SOURCE_DIR}/../shared/scenes/wooddoll_utah")
-  add_test(NAME cli.bench_real_scene
-           COMMAND mbrt_cli bench --quick --scene wooddoll --accel bvh-interp --repeats 1 --rays 16 --frozen-times 2)
-  set_tests_properties(cli.bench_real_scene PROPERTIES
-    PASS_REGULAR_EXPRESSION "wooddoll \\(6658 primitives")
-endif()
+# The fuzzy kd-tree's cluster picture (its paper's Fig. 1) at a sharp instant.
+mbrt_cli_test(cli.render_clusters
+  SETUP "rm -f ${O}/clusters.png"
+  OUT "^wrote +.*clusters.png$"
+  CHECK "image ${O}/clusters.png 24 24 nonblack"
+  ARGS render skinned --size 0.05 --accel fuzzykd --integrator clusters --camera-shutter 0.5,0.5
+       --width 24 --height 24 --spp 1 -o ${O}/clusters.png)
+# For an input without a clock, --shutter is the part of the normalized shutter.
+mbrt_cli_test(cli.render_shutter_obj
+  OUT "shutter \\[0.25, 0.5\\]"
+  CHECK "image ${O}/shutter.png 8 8"
+  ARGS render ${MBRT_CLI_SCENE} --shutter 0.25,0.5 --width 8 --height 8 --spp 1 -o ${O}/shutter.png)
+mbrt_cli_test(cli.render_scene_file
+  CHECK "image ${O}/scene_file.png 16 16 nonblack"
+  ARGS render ${MBRT_CLI_DATA}/cube_scene.json --width 16 --height 16 --spp 1 -o ${O}/scene_file.png)
 
-# Absurd render sizes and sample counts are refused with a message (exit 2).
-add_test(NAME cli.error_render_width COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --width 100000 -o ${MBRT_CLI_OUT}/w.png)
-set_tests_properties(cli.error_render_width PROPERTIES PASS_REGULAR_EXPRESSION "--width: Value 100000 not in range")
-add_test(NAME cli.error_render_height COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --height 0 -o ${MBRT_CLI_OUT}/h.png)
-set_tests_properties(cli.error_render_height PROPERTIES PASS_REGULAR_EXPRESSION "--height: Value 0 not in range")
-add_test(NAME cli.error_render_spp COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --spp -3 -o ${MBRT_CLI_OUT}/s.png)
-set_tests_properties(cli.error_render_spp PROPERTIES PASS_REGULAR_EXPRESSION "--spp: Value -3 not in range")
-add_test(NAME cli.error_render_spp_huge COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --spp 1e12 -o ${MBRT_CLI_OUT}/s.png)
-set_tests_properties(cli.error_render_spp_huge PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*--spp")
-add_test(NAME cli.error_render_total COMMAND mbrt_cli render --scene ${MBRT_CLI_SCENE} --width 16384 --height 16384 --spp 65536 -o ${MBRT_CLI_OUT}/t.png)
-set_tests_properties(cli.error_render_total PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: render: width x height x spp")
+# ---- `mbrt bench`: rays from a file, and a real scene when ../shared is there
+mbrt_cli_test(cli.bench_rays_file_make
+  SETUP "rm -f ${O}/bench_rays.bin"
+  CHECK "rays ${O}/bench_rays.bin 2000"
+  FIXTURES_SETUP cli_bench_rays
+  ARGS trace --scene translate --size 0.005 --generate 2000 --rays ${O}/bench_rays.bin)
+mbrt_cli_test(cli.bench_rays_file
+  SETUP "rm -f ${O}/bench.svg"
+  OUT "translate \\([0-9]+ primitives, 2000 rays\\)" "\\| stbvh \\|"
+  EXISTS ${O}/bench.svg
+  FIXTURES_REQUIRED cli_bench_rays
+  ARGS bench --quick --scene translate --size 0.005 --accel bvh-interp,stbvh --repeats 1
+       --frozen-times 2 --rays-file ${O}/bench_rays.bin --svg ${O}/bench.svg)
+# Registered whether or not the data is there: skipped, with the reason, without it.
+mbrt_cli_test(cli.bench_real_scene
+  REQUIRE ${PROJECT_SOURCE_DIR}/../shared/scenes/wooddoll_utah
+  OUT "wooddoll \\(6658 primitives"
+  ARGS bench --quick --scene wooddoll --accel bvh-interp --repeats 1 --rays 16 --frozen-times 2)
 
-# The fuzzy kd-tree's cluster picture (its paper's Fig. 1), a sharp instant of
-# the shutter, and their usage errors.
-add_test(NAME cli.render_clusters
-         COMMAND mbrt_cli render skinned --size 0.05 --accel fuzzykd --integrator clusters --camera-shutter 0.5,0.5
-                 --width 24 --height 24 --spp 1 -o ${MBRT_CLI_OUT}/clusters.png)
-set_tests_properties(cli.render_clusters PROPERTIES PASS_REGULAR_EXPRESSION "wrote +.*clusters.png")
-add_test(NAME cli.error_render_clusters_accel
-         COMMAND mbrt_cli render skinned --size 0.05 --accel bvh-interp --integrator clusters -o ${MBRT_CLI_OUT}/c.png)
-set_tests_properties(cli.error_render_clusters_accel PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*fuzzykd")
-add_test(NAME cli.error_render_camera_shutter
-         COMMAND mbrt_cli render demo --camera-shutter 0.7,0.2 -o ${MBRT_CLI_OUT}/c.png)
-set_tests_properties(cli.error_render_camera_shutter PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*camera-shutter")
+include(${PROJECT_SOURCE_DIR}/tests/cli_error_tests.cmake)

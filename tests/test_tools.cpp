@@ -281,19 +281,22 @@ TEST(RayFile, BadSizesAndMissingFiles) {
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_NE(errorOf([&] { readHits(path); }).find("not a multiple of 12"), std::string::npos);
   EXPECT_NE(errorOf([&] { readRays(dir.file("none.bin")); }).find("cannot open"), std::string::npos);
-  EXPECT_NE(errorOf([&] { writeRays(dir.file("no/dir/r.bin"), std::vector<Ray>(1)); }).find("cannot open"),
+  EXPECT_NE(errorOf([&] { writeRays(dir.file("no/dir/r.bin"), std::vector<Ray>(1)); }).find("no folder"),
             std::string::npos);
   EXPECT_TRUE(readRays(dir.write("empty.bin", "")).empty());
 }
 
-TEST(RayFile, TracedFileMatchesDirectTracing) {
-  // A moving triangle: the hit file written from batched tracing agrees with
-  // tracing ray by ray.
+TEST(RayFile, TracedFileHoldsTheExactHits) {
+  // A triangle moving from z = 0 to z = 1 over the shutter, rays along +z
+  // from z = -1: a ray at time s hits at t = 1 + s when x + y < 1 (y = 0.2).
+  // The hit file written from stbvh's batched tracing of rays read back from
+  // a ray file holds those hits, computed here by hand, not by another
+  // structure.
   Scene scene;
   scene.addTriangleMesh({{0, 1, 2}}, std::vector<std::vector<Vec3f>>{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
                                                                      {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}});
   BuildOptions opt;
-  opt.kind = AccelKind::Brute;
+  opt.kind = AccelKind::Stbvh;
   auto accel = Accel::build(scene, opt);
   std::vector<Ray> rays;
   for (int i = 0; i < 64; ++i)
@@ -301,14 +304,28 @@ TEST(RayFile, TracedFileMatchesDirectTracing) {
   TempDir dir;
   writeRays(dir.file("r.bin"), rays);
   const auto loaded = readRays(dir.file("r.bin"));
+  ASSERT_EQ(encodeRays(loaded), encodeRays(rays));
   std::vector<Hit> hits(loaded.size());
   accel->intersect(loaded, hits);
   writeHits(dir.file("h.bin"), std::span<const Hit>(hits));
   const auto records = readHits(dir.file("h.bin"));
   ASSERT_EQ(records.size(), rays.size());
-  for (size_t i = 0; i < rays.size(); ++i) {
-    Hit h;
-    accel->intersect(rays[i], h);
-    EXPECT_EQ(records[i], toHitRecord(h)) << i;
+  size_t hitCount = 0;
+  for (int i = 0; i < 64; ++i) {
+    const HitRecord& r = records[size_t(i)];
+    const float x = 0.2f + 0.01f * i;
+    if (std::fabs(x + 0.2f - 1.0f) < 1e-4f) continue;  // on the edge x + y = 1: either answer is right
+    if (x + 0.2f < 1.0f) {
+      ASSERT_TRUE(r.valid()) << i;
+      EXPECT_EQ(r.geomID, 0u);
+      EXPECT_EQ(r.primID, 0u);
+      // t = 1 + s up to float rounding of the interpolated vertex and of t:
+      // 1e-6 is 8 ulps at t = 2.
+      EXPECT_NEAR(r.t, 1.0f + i / 63.0f, 1e-6f) << i;
+      ++hitCount;
+    } else {
+      EXPECT_EQ(r, HitRecord{}) << i;  // a miss: +inf and invalid ids
+    }
   }
+  EXPECT_EQ(hitCount, 60u);  // x = 0.2 .. 0.79
 }

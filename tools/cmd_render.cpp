@@ -1,23 +1,27 @@
 // `mbrt render`: motion-blurred pictures with any structure (mbrt/render.h):
 // normals, ambient occlusion, diffuse path tracing and heat maps of the
-// traversal work, PNG or EXR by the output's extension.
+// traversal work, PNG or EXR by the output's extension. Ctrl-C (SIGINT) or
+// SIGTERM stops the render, writes what was rendered and exits 130 or 143.
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/render.h"
+#include "output_paths.h"
 #include "progress_bar.h"
 #include "scene_loading.h"
 
@@ -31,7 +35,6 @@ bool hasOwnClock(const std::string& spec) {
 }
 
 struct RenderArgs {
-  std::string positionalScene;
   SceneArgs scene;
   AccelArgs accel;
   std::string out = "mbrt.png";
@@ -47,27 +50,48 @@ struct RenderArgs {
   std::string compare;  // a second structure, rendered beside the first
 };
 
-std::atomic<bool> gInterrupted{false};
+enum class OutFormat { Png, Exr };
 
-extern "C" void onInterrupt(int) {
-  gInterrupted.store(true);
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
-}
-
-// Installs the Ctrl-C handler for the lifetime of a render.
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    gInterrupted.store(false);
-    previous_ = std::signal(SIGINT, onInterrupt);
-  }
-  ~InterruptGuard() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_); }
-
- private:
-  void (*previous_)(int) = SIG_DFL;
+// What run() settles before loading: the checked options.
+struct RenderPlan {
+  OutFormat format = OutFormat::Png;
+  RenderOptions options;
 };
 
-enum class OutFormat { Png, Exr };
+// The signal that stopped the render (SIGINT, SIGTERM), 0 while none.
+std::atomic<int> gSignal{0};
+std::atomic<bool> gInterrupted{false};
+
+extern "C" void onStopSignal(int sig) {
+  gSignal.store(sig);
+  gInterrupted.store(true);
+  std::signal(sig, SIG_DFL);  // a second one ends the process at once
+  static const char kNote[] = "\nmbrt: stopping after the tiles in progress (again: stop at once)\n";
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, kNote, sizeof kNote - 1);  // async-signal-safe
+}
+
+const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : "SIGTERM"; }
+
+// Installs the SIGINT and SIGTERM handlers for the lifetime of a render.
+class StopSignalGuard {
+ public:
+  StopSignalGuard() {
+    gSignal.store(0);
+    gInterrupted.store(false);
+    previousInt_ = std::signal(SIGINT, onStopSignal);
+    previousTerm_ = std::signal(SIGTERM, onStopSignal);
+  }
+  ~StopSignalGuard() {
+    std::signal(SIGINT, previousInt_ == SIG_ERR ? SIG_DFL : previousInt_);
+    std::signal(SIGTERM, previousTerm_ == SIG_ERR ? SIG_DFL : previousTerm_);
+  }
+  StopSignalGuard(const StopSignalGuard&) = delete;
+  StopSignalGuard& operator=(const StopSignalGuard&) = delete;
+
+ private:
+  void (*previousInt_)(int) = SIG_DFL;
+  void (*previousTerm_)(int) = SIG_DFL;
+};
 
 OutFormat formatOf(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -77,36 +101,13 @@ OutFormat formatOf(const std::string& path) {
   throw UsageError("cannot tell the image format of '" + path + "': use a .png or .exr file name");
 }
 
-// The best structure this build has: stbvh once it exists, else bvh-interp.
-AccelKind bestAccelKind() {
-  const auto kinds = availableAccelKinds();
-  for (AccelKind k : {AccelKind::Stbvh, AccelKind::BvhInterp})
-    if (std::find(kinds.begin(), kinds.end(), k) != kinds.end()) return k;
-  return AccelKind::Brute;
+bool isShutterPart(const std::vector<float>& v) {
+  return v.size() == 2 && v[0] >= 0.0f && v[1] <= 1.0f && v[0] <= v[1];  // false for NaN
 }
 
-void run(RenderArgs& args) {
-  // Check everything cheap before loading and rendering.
-  if (!args.positionalScene.empty()) {
-    if (!args.scene.scene.empty() && args.scene.scene != args.positionalScene)
-      throw UsageError("two scenes given: '" + args.positionalScene + "' and --scene '" + args.scene.scene + "'");
-    args.scene.scene = args.positionalScene;
-  }
-  if (args.scene.scene.empty()) args.scene.scene = "demo";
-  const OutFormat format = formatOf(args.out);
-  if (format == OutFormat::Exr && !exrSupported()) writeExr(args.out, Image());  // throws the explanation
-  const std::filesystem::path parent = std::filesystem::path(args.out).parent_path();
-  std::error_code ec;
-  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw Error("cannot write '" + args.out + "': no directory '" + parent.string() + "'");
-  const auto integrator = parseIntegratorKind(args.integrator);
-  if (!integrator)
-    throw UsageError("unknown integrator '" + args.integrator + "' (available: " + integratorKindList() + ")");
-  if (args.shutter.size() != 2 || !(args.shutter[0] >= 0.0f && args.shutter[1] <= 1.0f && args.shutter[0] <= args.shutter[1]))
-    throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
-
+void checkAccelKinds(const RenderArgs& args, IntegratorKind integrator) {
   // Only fuzzykd has motion clusters: refused before the scene is loaded.
-  if (*integrator == IntegratorKind::Clusters &&
+  if (integrator == IntegratorKind::Clusters &&
       (args.accel.accel != "fuzzykd" || (!args.compare.empty() && args.compare != "fuzzykd")))
     throw UsageError("--integrator clusters needs --accel fuzzykd (the motion clusters of its decomposition)");
   if (!args.compare.empty()) {
@@ -115,41 +116,143 @@ void run(RenderArgs& args) {
     if (!kind || std::find(kinds.begin(), kinds.end(), *kind) == kinds.end())
       throw UsageError("unknown accel kind '" + args.compare + "' for --compare (available: " + accelKindList() + ")");
   }
+}
 
-  RenderOptions opt = args.options;
-  opt.integrator = *integrator;
-  opt.seed = args.scene.seed;
+// The part of the normalized shutter the camera sees: --shutter for inputs
+// without a clock (for the others it is in seconds of their clip), or
+// --camera-shutter.
+void applyShutter(const RenderArgs& args, RenderOptions& opt) {
+  if (!isShutterPart(args.shutter))
+    throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
   opt.shutterOpen = args.shutter[0];
   opt.shutterClose = args.shutter[1];
-
-  std::unique_ptr<tbb::task_arena> arena =
-      args.threads > 0 ? std::make_unique<tbb::task_arena>(args.threads) : std::make_unique<tbb::task_arena>();
-  const int threads = arena->max_concurrency();
-
-  LoadedScene loaded = loadScene(args.scene);
-  // --shutter (a shared scene option) is in seconds of the clip for inputs
-  // that have a clock (glTF, JSON scene files); for the others it is the
-  // part A,B of the normalized shutter [0,1] the camera sees.
   if (!args.scene.shutter.empty() && !hasOwnClock(args.scene.scene)) {
-    float a = 0, b = 0;
+    std::vector<float> v(2);
     char comma = 0;
     std::stringstream ss(args.scene.shutter);
-    if (!(ss >> a >> comma >> b) || comma != ',' || !(a >= 0.0f && b <= 1.0f && a <= b))
+    if (!(ss >> v[0] >> comma >> v[1]) || comma != ',' || !(ss >> std::ws).eof() || !isShutterPart(v))
       throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 for '" + args.scene.scene +
                        "' (the part of the normalized shutter to render), got '" + args.scene.shutter + "'");
-    opt.shutterOpen = a;
-    opt.shutterClose = b;
+    opt.shutterOpen = v[0];
+    opt.shutterClose = v[1];
   }
   if (!args.cameraShutter.empty()) {
-    if (args.cameraShutter.size() != 2 || !(args.cameraShutter[0] >= 0.0f && args.cameraShutter[1] <= 1.0f &&
-                                            args.cameraShutter[0] <= args.cameraShutter[1]))
+    if (!isShutterPart(args.cameraShutter))
       throw UsageError("--camera-shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
     opt.shutterOpen = args.cameraShutter[0];
     opt.shutterClose = args.cameraShutter[1];
   }
+}
+
+// Every cheap check before loading and rendering, the output's folder and
+// writability included: a bad option fails in a second, not after the render.
+RenderPlan checkArgs(RenderArgs& args) {
+  resolveScene(args.scene);
+  RenderPlan plan;
+  plan.format = formatOf(args.out);
+  if (plan.format == OutFormat::Exr && !exrSupported()) writeExr(args.out, Image());  // throws the explanation
+  const auto integrator = parseIntegratorKind(args.integrator);
+  if (!integrator)
+    throw UsageError("unknown integrator '" + args.integrator + "' (available: " + integratorKindList() + ")");
+  checkAccelKinds(args, *integrator);
+  // render() refuses more samples too, but only after loading and building.
+  constexpr double kMaxCameraSamples = double(uint64_t(1) << 40);
+  const RenderOptions& o = args.options;
+  if (double(o.width) * double(o.height) * double(o.spp) > kMaxCameraSamples)
+    throw UsageError("--width x --height x --spp = " + std::to_string(uint64_t(o.width) * uint64_t(o.height) *
+                                                                      uint64_t(o.spp)) +
+                     " camera samples is more than the limit of 2^40");
+  refuseSamePath("--out", args.out, "the scene", args.scene.scene);
+  io::checkOutputPath(args.out);
+  plan.options = args.options;
+  plan.options.integrator = *integrator;
+  plan.options.seed = args.scene.seed;
+  applyShutter(args, plan.options);
+  return plan;
+}
+
+void printResult(const std::string& kind, const RenderOptions& opt, int threads, const RenderResult& result) {
+  std::printf("render  %s: %dx%d, %d spp, %s, shutter [%g, %g], %d thread%s: %llu rays in %.3f s (%.3f Mrays/s)\n",
+              kind.c_str(), opt.width, opt.height, opt.spp, std::string(toString(opt.integrator)).c_str(),
+              opt.shutterOpen, opt.shutterClose, threads, threads == 1 ? "" : "s",
+              static_cast<unsigned long long>(result.rays), result.seconds, result.raysPerSecond() * 1e-6);
+  if (isHeatMap(opt.integrator))
+    std::printf("heat    %s: %s per primary ray: mean %.2f, max %.1f\n", kind.c_str(),
+                opt.integrator == IntegratorKind::HeatSteps ? "nodes visited" : "intersection tests",
+                result.heatMean, result.heatMaxValue);
+  if (!result.complete)
+    std::fprintf(stderr, "mbrt: interrupted: %zu of %zu tiles rendered; the rest is black\n", result.tilesDone,
+                 result.tilesTotal);
+}
+
+// Builds one structure and renders with it (stopped early by a signal).
+RenderResult renderWith(const LoadedScene& loaded, const AccelArgs& kindArgs, const RenderOptions& opt,
+                        bool progress, tbb::task_arena& arena) {
+  std::unique_ptr<Accel> accel;
+  arena.execute([&] { accel = buildAccel(*loaded.scene, kindArgs, progress); });
+  const AccelStats built = accel->stats();
+  std::printf("accel   %s, built in %.3f s\n", built.kind.c_str(), built.buildSeconds);
+  if (isHeatMap(opt.integrator) && built.kind == "embree")
+    std::printf("note    embree exposes no traversal counters: the heat map is empty\n");
+  std::fflush(stdout);
+
+  ProgressBar bar(progress);
+  RenderResult result;
+  arena.execute([&] {
+    result = render(loaded, *accel, opt, &gInterrupted, [&](const RenderProgress& p) {
+      bar.update(double(p.tilesDone) / double(p.tilesTotal), p.rays, p.seconds);
+    });
+  });
+  bar.finish();
+  printResult(built.kind, opt, arena.max_concurrency(), result);
+  std::fflush(stdout);
+  return result;
+}
+
+// Heat maps of every picture on one scale: the largest of their own, or
+// --heat-max.
+void rescaleHeat(std::vector<RenderResult>& results, const RenderOptions& opt) {
+  float scale = opt.heatMax;
+  if (!(scale > 0.0f))
+    for (const RenderResult& r : results) scale = std::max(scale, r.heatScale);
+  for (RenderResult& r : results) r.image = heatImage(r.heat, opt.width, opt.height, scale, opt.colorBar);
+  std::printf("heat    colour bar 0 .. %.1f%s\n", scale, opt.heatMax > 0.0f ? " (--heat-max)" : " (99th percentile)");
+}
+
+// Two pictures side by side, the first on the left, a thin white gap between.
+Image sideBySide(const Image& a, const Image& b) {
+  constexpr int kGap = 4;
+  Image picture(a.width() + kGap + b.width(), std::max(a.height(), b.height()));
+  for (int y = 0; y < picture.height(); ++y)
+    for (int x = 0; x < picture.width(); ++x) {
+      const int xb = x - a.width() - kGap;
+      picture.at(x, y) = x < a.width() ? (y < a.height() ? a.at(x, y) : Rgb{})
+                         : xb < 0      ? Rgb{1.0f, 1.0f, 1.0f}
+                                       : (y < b.height() ? b.at(xb, y) : Rgb{});
+    }
+  return picture;
+}
+
+void writePicture(const RenderArgs& args, const RenderPlan& plan, const Image& picture) {
+  if (plan.format == OutFormat::Exr)
+    writeExr(args.out, picture);
+  else
+    writePng(args.out, tonemap(picture, plan.options.integrator, args.exposure));
+  std::printf("wrote   %s\n", args.out.c_str());
+  std::fflush(stdout);
+}
+
+void run(RenderArgs& args) {
+  const RenderPlan plan = checkArgs(args);
+  const RenderOptions& opt = plan.options;
+  std::unique_ptr<tbb::task_arena> arena =
+      args.threads > 0 ? std::make_unique<tbb::task_arena>(args.threads) : std::make_unique<tbb::task_arena>();
+
+  LoadedScene loaded = loadScene(args.scene);
   if (args.aperture >= 0.0f) loaded.camera.apertureRadius = args.aperture;
   if (args.focus >= 0.0f) loaded.camera.focusDistance = args.focus;
   std::printf("scene   %s\n", describeScene(loaded).c_str());
+  std::fflush(stdout);
 
   // One picture per structure: --accel, and --compare when given.
   std::vector<AccelArgs> kinds{args.accel};
@@ -157,70 +260,27 @@ void run(RenderArgs& args) {
     kinds.push_back(args.accel);
     kinds.back().accel = args.compare;
   }
+  const bool progress = args.progress || stderrIsTerminal();
   std::vector<RenderResult> results;
-  InterruptGuard guard;
+  const StopSignalGuard guard;
   for (const AccelArgs& kindArgs : kinds) {
     if (gInterrupted.load() && !results.empty()) break;  // interrupted: write what there is
-    std::unique_ptr<Accel> accel;
-    arena->execute([&] { accel = buildAccel(*loaded.scene, kindArgs, bestAccelKind()); });
-    const AccelStats built = accel->stats();
-    std::printf("accel   %s, built in %.3f s\n", built.kind.c_str(), built.buildSeconds);
-    if (isHeatMap(opt.integrator) && built.kind == "embree")
-      std::printf("note    embree exposes no traversal counters: the heat map is empty\n");
-    std::fflush(stdout);
-
-    ProgressBar bar(args.progress || isatty(STDERR_FILENO));
-    RenderResult result;
-    arena->execute([&] {
-      result = render(loaded, *accel, opt, &gInterrupted, [&](const RenderProgress& p) {
-        bar.update(double(p.tilesDone) / double(p.tilesTotal), p.rays, p.seconds);
-      });
-    });
-    bar.finish();
-    std::printf("render  %s: %dx%d, %d spp, %s, shutter [%g, %g], %d thread%s: %llu rays in %.3f s (%.3f Mrays/s)\n",
-                built.kind.c_str(), opt.width, opt.height, opt.spp, std::string(toString(opt.integrator)).c_str(),
-                opt.shutterOpen, opt.shutterClose, threads, threads == 1 ? "" : "s",
-                static_cast<unsigned long long>(result.rays), result.seconds, result.raysPerSecond() * 1e-6);
-    if (isHeatMap(opt.integrator))
-      std::printf("heat    %s: %s per primary ray: mean %.2f, max %.1f\n", built.kind.c_str(),
-                  opt.integrator == IntegratorKind::HeatSteps ? "nodes visited" : "intersection tests",
-                  result.heatMean, result.heatMaxValue);
-    if (!result.complete)
-      std::fprintf(stderr, "mbrt: interrupted: %zu of %zu tiles rendered; the rest is black\n", result.tilesDone,
-                   result.tilesTotal);
-    results.push_back(std::move(result));
+    results.push_back(renderWith(loaded, kindArgs, opt, progress, *arena));
   }
-
-  Image picture = results.front().image;
-  if (isHeatMap(opt.integrator)) {
-    // One scale for every picture: the largest of their own.
-    float scale = opt.heatMax;
-    if (!(scale > 0.0f))
-      for (const RenderResult& r : results) scale = std::max(scale, r.heatScale);
-    for (RenderResult& r : results) r.image = heatImage(r.heat, opt.width, opt.height, scale, opt.colorBar);
-    picture = results.front().image;
-    std::printf("heat    colour bar 0 .. %.1f%s\n", scale,
-                opt.heatMax > 0.0f ? " (--heat-max)" : " (99th percentile)");
+  const int sig = gSignal.load();
+  const bool anyTile = std::any_of(results.begin(), results.end(), [](const RenderResult& r) { return r.tilesDone > 0; });
+  if (sig != 0 && !anyTile) {
+    // Nothing rendered (stopped during the build): an old picture is worth more than a black one.
+    std::fprintf(stderr, "mbrt: stopped by %s before any tile was rendered: nothing written\n", signalName(sig));
+    throw ExitStatus(128 + sig);
   }
-  if (results.size() == 2) {
-    // Side by side, --accel on the left, a thin white gap between.
-    const Image &a = results[0].image, &b = results[1].image;
-    constexpr int kGap = 4;
-    picture = Image(a.width() + kGap + b.width(), std::max(a.height(), b.height()));
-    for (int y = 0; y < picture.height(); ++y)
-      for (int x = 0; x < picture.width(); ++x) {
-        const int xb = x - a.width() - kGap;
-        picture.at(x, y) = x < a.width() ? (y < a.height() ? a.at(x, y) : Rgb{})
-                           : xb < 0      ? Rgb{1.0f, 1.0f, 1.0f}
-                                         : (y < b.height() ? b.at(xb, y) : Rgb{});
-      }
+  if (isHeatMap(opt.integrator)) rescaleHeat(results, opt);
+  const Image picture = results.size() == 2 ? sideBySide(results[0].image, results[1].image) : results.front().image;
+  writePicture(args, plan, picture);
+  if (sig != 0) {
+    std::fprintf(stderr, "mbrt: stopped by %s: wrote the partial picture\n", signalName(sig));
+    throw ExitStatus(128 + sig);
   }
-
-  if (format == OutFormat::Exr)
-    writeExr(args.out, picture);
-  else
-    writePng(args.out, tonemap(picture, opt.integrator, args.exposure));
-  std::printf("wrote   %s\n", args.out.c_str());
 }
 
 }  // namespace
@@ -229,10 +289,11 @@ void registerRenderCommand(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   auto* cmd = app.add_subcommand(
       "render", "Render a motion-blurred picture of a scene (PNG, or float EXR by the file extension)");
-  cmd->add_option("SCENE", args->positionalScene, "The scene (as --scene); default: demo");
+  args->scene.defaultScene = "demo";
+  args->scene.shutterForAnyInput = true;  // the part of the normalized shutter for inputs without a clock
+  args->scene.seedForAnyInput = true;     // the seed of the camera samples
   addSceneOptions(*cmd, args->scene);
-  if (auto* s = cmd->get_option_no_throw("--scene")) s->required(false);
-  addAccelOptions(*cmd, args->accel, std::string(toString(bestAccelKind())));
+  addAccelOptions(*cmd, args->accel);
   RenderOptions& o = args->options;
   cmd->add_option("--out,-o", args->out, "Image to write: .png (tonemapped) or .exr (linear float)")
       ->capture_default_str();
@@ -257,27 +318,26 @@ void registerRenderCommand(CLI::App& app) {
                   "time (glTF seconds): e.g. 0.5,0.5 renders a sharp middle frame of a scene loaded over a whole clip")
       ->delimiter(',')
       ->expected(2);
-  cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  addThreadsOption(*cmd, args->threads);
   cmd->add_option("--ao-samples", o.aoSamples, "Occlusion rays per camera sample (ao)")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
   cmd->add_option("--ao-distance", o.aoDistance, "Occlusion ray length (ao); 0: 5% of the scene's diagonal")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteIn(0.0, 1e18))
       ->capture_default_str();
   cmd->add_option("--depth", o.maxDepth, "Diffuse bounces (path)")->check(CLI::Range(0, 64))->capture_default_str();
   cmd->add_option("--heat-max", o.heatMax,
                   "Value at the top of the heat colour map; 0: the image's 99th percentile (fix it to compare images)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteIn(0.0, 1e18))
       ->capture_default_str();
   cmd->add_flag("!--no-color-bar", o.colorBar, "Heat maps without the colour bar");
   cmd->add_option("--aperture", args->aperture, "Thin-lens aperture radius (0: pinhole); default: the scene's")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finiteIn(0.0, 1e18));
   cmd->add_option("--focus", args->focus, "Focus distance (0: eye to target); default: the scene's")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finiteIn(0.0, 1e18));
   cmd->add_option("--tile", o.tileSize, "Tile side in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output of ao and path (EXR stays linear)")
+      ->check(finiteIn(-64.0, 64.0))
       ->capture_default_str();
   cmd->add_option("--compare", args->compare,
                   "Also render with this structure and put both pictures side by side (heat maps on one scale)");

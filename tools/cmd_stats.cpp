@@ -1,4 +1,5 @@
-// `mbrt stats`: build a structure and print its statistics.
+// `mbrt stats`: build a structure and print its statistics (a spinner on a
+// terminal while a build takes more than a second).
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -46,9 +47,9 @@ std::string humanBytes(size_t bytes) {
   return buf;
 }
 
-void run(const StatsArgs& args) {
+void run(StatsArgs& args) {
   const LoadedScene loaded = loadScene(args.scene);
-  auto accel = buildAccel(*loaded.scene, args.accel, defaultAccelKind());
+  auto accel = buildAccel(*loaded.scene, args.accel, /*progress=*/true);
   const AccelStats s = accel->stats();
   const BuildOptions& o = accel->options();
   if (args.json) {
@@ -93,7 +94,7 @@ void registerStatsCommand(CLI::App& app) {
   auto args = std::make_shared<StatsArgs>();
   auto* cmd = app.add_subcommand("stats", "Build a structure over a scene and print its statistics");
   addSceneOptions(*cmd, args->scene);
-  addAccelOptions(*cmd, args->accel, std::string(toString(defaultAccelKind())));
+  addAccelOptions(*cmd, args->accel);
   cmd->add_flag("--json", args->json, "Print JSON instead of text");
   cmd->callback([args] { run(*args); });
 }

@@ -10,7 +10,9 @@
 
 #include "camera.h"
 #include "commands.h"
+#include "mbrt/io/file_access.h"
 #include "mbrt/ray_file.h"
+#include "output_paths.h"
 #include "scene_loading.h"
 
 namespace mbrt::tools {
@@ -38,21 +40,37 @@ std::vector<Ray> generateRays(const LoadedScene& scene, size_t count, uint64_t s
   return rays;
 }
 
-void run(const TraceArgs& args) {
+// Every cheap check before loading and tracing: the options, and that the
+// outputs can be written and overwrite no input.
+void checkArgs(TraceArgs& args) {
   if (args.hits.empty() && args.generate == 0)
     throw UsageError("trace needs --hits FILE to trace --rays FILE (or --generate N to write a ray file)");
-  const LoadedScene loaded = loadScene(args.scene);
+  args.scene.seedForAnyInput = args.generate > 0;  // the seed of the random rays
+  resolveScene(args.scene);
+  if (!args.hits.empty()) refuseSamePath("--hits", args.hits, "--rays", args.rays);
+  if (!args.hits.empty()) refuseSamePath("--hits", args.hits, "the scene", args.scene.scene);
+  if (args.generate > 0) refuseSamePath("--rays", args.rays, "the scene", args.scene.scene);
+  if (args.generate > 0) io::checkOutputPath(args.rays);
+  if (!args.hits.empty()) io::checkOutputPath(args.hits);
+  if (args.hits.empty())  // --generate alone builds nothing
+    for (const char* option : {"--accel", "--branching", "--leaf-size", "--time", "--memory-budget"})
+      if (args.scene.cmd->count(option) > 0)
+        throw UsageError(std::string(option) + " applies when rays are traced: give --hits FILE with --generate");
+}
+
+void run(TraceArgs& args) {
+  checkArgs(args);
   std::vector<Ray> rays;
+  if (args.generate == 0) rays = readRays(args.rays);  // a bad ray file fails before the scene loads
+  const LoadedScene loaded = loadScene(args.scene);
   if (args.generate > 0) {
     rays = generateRays(loaded, args.generate, args.scene.seed);
     writeRays(args.rays, rays);
     std::printf("wrote %zu random camera rays to %s\n", rays.size(), args.rays.c_str());
     if (args.hits.empty()) return;
-  } else {
-    rays = readRays(args.rays);
   }
 
-  auto accel = buildAccel(*loaded.scene, args.accel, defaultAccelKind());
+  auto accel = buildAccel(*loaded.scene, args.accel, /*progress=*/true);
   const AccelStats built = accel->stats();
   std::printf("scene   %s\naccel   %s, built in %.3f s\n", describeScene(loaded).c_str(), built.kind.c_str(),
               built.buildSeconds);
@@ -82,12 +100,12 @@ void registerTraceCommand(CLI::App& app) {
       "Rays: little-endian float32 x9 per ray (ox oy oz dx dy dz tnear tfar time).\n"
       "Hits: float32 t (+inf on a miss), uint32 geometry id, uint32 primitive id (0xFFFFFFFF on a miss).");
   addSceneOptions(*cmd, args->scene);
-  addAccelOptions(*cmd, args->accel, std::string(toString(defaultAccelKind())));
+  addAccelOptions(*cmd, args->accel);
   cmd->add_option("--rays", args->rays, "Ray file to read (or to write with --generate)")->required();
   cmd->add_option("--hits", args->hits, "Hit file to write");
   cmd->add_option("--generate", args->generate,
                   "Write N random camera rays with random times to --rays (and trace them when --hits is given)")
-      ->check(CLI::Range(size_t(1), size_t(1) << 31));
+      ->check(CLI::Range(size_t(1), size_t(io::kMaxInputFileBytes / kRayRecordBytes)));  // a file mbrt reads back
   cmd->callback([args] { run(*args); });
 }
 

@@ -1,4 +1,7 @@
-// The `mbrt` command: one subcommand per file (commands.h).
+// The `mbrt` command: one subcommand per file (commands.h). Exit codes: 0
+// success, 1 failure (bad file, I/O error, a build over its memory budget),
+// 2 usage error (bad option, unknown scene or kind), 130 / 143 stopped by
+// SIGINT / SIGTERM after writing the partial result (render).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -29,6 +32,8 @@ int main(int argc, char** argv) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::fprintf(stderr, "mbrt: error: %s\nRun 'mbrt --help' or 'mbrt SUBCOMMAND --help' for usage.\n", e.what());
     return 2;
+  } catch (const mbrt::tools::ExitStatus& e) {
+    return e.code();
   } catch (const mbrt::tools::UsageError& e) {
     std::fprintf(stderr, "mbrt: error: %s\n", e.what());
     return 2;

@@ -22,10 +22,35 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The structure every subcommand builds when no --accel is given (a later
+// `auto` kind is to replace it). buildAccel falls back to brute, with a note,
+// when this build lacks it.
+constexpr AccelKind kDefaultAccelKind = AccelKind::Stbvh;
+
+// The end of a command that finished its output but must not report
+// success: interrupted by SIGINT (130) or SIGTERM (143) after writing what
+// it had. main() returns `code`; the message is already printed.
+class ExitStatus : public std::exception {
+ public:
+  explicit ExitStatus(int code) : code_(code) {}
+  int code() const { return code_; }
+  const char* what() const noexcept override { return "exit status"; }
+
+ private:
+  int code_;
+};
+
+// A number in [lo, hi] (or (lo, hi] with openLow), never NaN or infinite:
+// CLI11's Range and PositiveNumber let NaN through.
+CLI::Validator finiteIn(double lo, double hi, bool openLow = false);
+
 struct SceneArgs {
   // A built-in scene's name; a .obj, .ply, .gltf, .glb or .json file; a
-  // folder or a quoted glob of OBJ keyframes (docs/input.md).
+  // folder or a quoted glob of OBJ keyframes (docs/input.md). Given as the
+  // positional SCENE or as --scene.
   std::string scene;
+  std::string positional;
+  std::string defaultScene;  // when neither is given; empty: a scene is required
   double size = 1.0;
   uint64_t seed = 1;
   std::string clip;     // glTF animation clip (name or index)
@@ -34,36 +59,55 @@ struct SceneArgs {
   double fps = 24.0;
   std::string motion;   // procedural motion of a static mesh
   bool verbose = false; // print what the loader chose (per-geometry steps)
+  // The command reads --shutter itself for inputs without a clock (render:
+  // the part of the normalized shutter), so it is not refused for them.
+  bool shutterForAnyInput = false;
+  // The command uses --seed whatever the input (random rays or samples).
+  bool seedForAnyInput = false;
+  const CLI::App* cmd = nullptr;  // to tell which options were given
 };
 
 struct AccelArgs {
-  std::string accel;  // empty: the command's default
+  std::string accel;  // empty: kDefaultAccelKind
   int branching = 8;
   int leafSize = 8;
   float time = 0.5f;  // build time of `frozen`
+  size_t memoryBudget = 0;  // bytes, 0: unlimited
 };
 
 // What --scene names: geometry, camera, materials, lights.
 using LoadedScene = SceneDescription;
 
+// The positional SCENE and --scene, --size, --seed, --clip, ...
 void addSceneOptions(CLI::App& cmd, SceneArgs& args);
-// defaultKind is named in the help; AccelArgs::accel stays empty when the
-// user gives no --accel.
-void addAccelOptions(CLI::App& cmd, AccelArgs& args, const std::string& defaultKind);
+// --accel (empty when not given), --branching, --leaf-size, --time,
+// --memory-budget.
+void addAccelOptions(CLI::App& cmd, AccelArgs& args);
+// --threads N: 1 to the cores TBB sees, 0 for all.
+void addThreadsOption(CLI::App& cmd, int& threads);
+
+// Settles which scene is meant (SCENE or --scene, else the default) and
+// refuses options that do not apply to that input (--motion on glTF, --clip
+// on OBJ, ...) with a UsageError. Cheap: run before any work.
+void resolveScene(SceneArgs& args);
 
 // "brute, bvh-interp, ..." (the kinds this build can construct).
 std::string accelKindList();
-// bvh-interp when this build has it, otherwise brute.
+// kDefaultAccelKind when this build has it, otherwise brute.
 AccelKind defaultAccelKind();
 
 // Throws UsageError for an unknown scene name or bad options, Error for a
-// bad file.
-LoadedScene loadScene(const SceneArgs& args);
+// bad file. Runs resolveScene first.
+LoadedScene loadScene(SceneArgs& args);
 
 // Builds with the kind given (UsageError when unknown), or with
-// `defaultKind` when none was given; a default that turns out not to be
-// built in falls back to brute with a note on stderr.
-std::unique_ptr<Accel> buildAccel(const Scene& scene, const AccelArgs& args, AccelKind defaultKind);
+// defaultAccelKind() when none was given; a default that fails falls back
+// to brute with a note on stderr. `progress`: a note and a spinner on stderr
+// while a build takes more than a second, when stderr is a terminal.
+std::unique_ptr<Accel> buildAccel(const Scene& scene, const AccelArgs& args, bool progress = false);
+
+// The name of the kind buildAccel uses for `args` ("stbvh", ...).
+std::string accelKindName(const AccelArgs& args);
 
 // Scene summary for messages: "demo: 3 geometries, 1234 primitives, up to 32 segments".
 std::string describeScene(const LoadedScene& scene);

@@ -46,6 +46,11 @@ std::vector<uint8_t> encodePng(const Image& image);
 // the reason when the file cannot be written.
 void writePng(const std::string& path, const Image& image);
 
+// Reads an 8-bit or 16-bit PNG of any colour type as linear RGB (the sRGB
+// curve undone; alpha dropped). Throws Error naming the path for a missing,
+// non-regular or bad file.
+Image readPng(const std::string& path);
+
 // OpenEXR, linear float RGB (channels R, G, B as 32-bit floats). Built in
 // when mbrt was configured with OpenEXR (MBRT_WITH_OPENEXR); otherwise
 // exrSupported() is false and both calls throw Error saying so.

@@ -70,8 +70,12 @@ struct ProceduralMotion {
   uint32_t steps = 2;
   bool any() const { return rotateDegrees != 0.0f || !(translate == Vec3f(0.0f)); }
 };
+// The most steps a procedural motion may have (each is a copy of the mesh).
+constexpr uint32_t kMaxProceduralMotionSteps = 1024;
 // Parses "translate:X,Y,Z", "rotate:DEG" or "rotate:DEG:AX,AY,AZ", joined
-// with ';' (e.g. "translate:0.5,0,0;rotate:90"). Throws Error when bad.
+// with ';' (e.g. "translate:0.5,0,0;rotate:90"). Throws Error when bad,
+// and when the rotation would need more than kMaxProceduralMotionSteps steps
+// (one per 10 degrees: at most 10230 degrees).
 ProceduralMotion parseProceduralMotion(const std::string& spec);
 // A scene with the mesh as one triangle mesh moving as `motion` says.
 std::shared_ptr<Scene> makeMovingMeshScene(ObjMesh mesh, const ProceduralMotion& motion);

@@ -1,6 +1,7 @@
 // EXR output (and input, for tests) through OpenEXR, when built in.
 #include <string>
 
+#include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/scene.h"
 
@@ -24,12 +25,13 @@ bool exrSupported() { return true; }
 void writeExr(const std::string& path, const Image& image) {
   if (image.empty()) throw Error("cannot write '" + path + "': empty image");
   const int w = image.width(), h = image.height();
+  io::PendingOutput out(path);  // a failed write leaves the old file
   try {
     Imf::Header header(w, h);
     header.channels().insert("R", Imf::Channel(Imf::FLOAT));
     header.channels().insert("G", Imf::Channel(Imf::FLOAT));
     header.channels().insert("B", Imf::Channel(Imf::FLOAT));
-    Imf::OutputFile file(path.c_str(), header);
+    Imf::OutputFile file(out.tempPath().c_str(), header);
     Imf::FrameBuffer fb;
     // Rgb is three packed floats: one slice per channel over the same pixels.
     char* base = const_cast<char*>(reinterpret_cast<const char*>(image.pixels().data()));
@@ -42,6 +44,7 @@ void writeExr(const std::string& path, const Image& image) {
   } catch (const std::exception& e) {
     throw Error("cannot write '" + path + "': " + e.what());
   }
+  out.commit();  // after the OutputFile is closed: the whole file is written
 }
 
 Image readExr(const std::string& path) {

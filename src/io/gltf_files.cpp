@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "mbrt/io/file_access.h"
 #include "mbrt/scene.h"
 
 namespace mbrt::gltf {
@@ -49,6 +50,11 @@ bool readIfRegular(const std::string& path, const std::vector<uint64_t>* allowed
   const uint64_t size = uint64_t(st.st_size);
   if (allowedSizes && std::find(allowedSizes->begin(), allowedSizes->end(), size) == allowedSizes->end()) {
     err = "'" + path + "' has " + std::to_string(size) + " bytes, the size of no declared buffer (byteLength)";
+    return false;
+  }
+  if (size > io::kMaxInputFileBytes) {
+    err = "'" + path + "' has " + std::to_string(size) + " bytes, more than the limit of " +
+          std::to_string(io::kMaxInputFileBytes) + " for an input file";
     return false;
   }
   out.resize(size_t(size));

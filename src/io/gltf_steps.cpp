@@ -10,10 +10,21 @@ namespace {
 
 constexpr float kProbes[] = {0.25f, 0.5f, 0.75f};
 
+// A step count given by the caller: each step is a copy of the geometry, so
+// it is capped (as `--steps` and a scene file's "steps" are).
+constexpr uint32_t kMaxExplicitSteps = 1024;
+
+uint32_t explicitSteps(const StepOptions& opt) {
+  if (opt.steps > kMaxExplicitSteps)
+    throw Error("glTF: " + std::to_string(opt.steps) + " time steps asked for, more than the limit of " +
+                std::to_string(kMaxExplicitSteps));
+  return opt.steps;
+}
+
 }  // namespace
 
 uint32_t chooseVertexSteps(const PointsAt& eval, const StepOptions& opt, float tolerance) {
-  if (opt.steps > 0) return opt.steps;
+  if (opt.steps > 0) return explicitSteps(opt);
   const uint32_t most = std::max<uint32_t>(1, opt.maxSteps);
   std::vector<std::vector<Vec3f>> keys;
   std::vector<Vec3f> truth;
@@ -43,7 +54,7 @@ uint32_t chooseVertexSteps(const PointsAt& eval, const StepOptions& opt, float t
 
 uint32_t chooseSRTSteps(const std::function<SRTKey(float)>& keyAt, const std::function<Affine3f(float)>& worldAt,
                         const std::vector<Vec3f>& points, const StepOptions& opt, float tolerance) {
-  if (opt.steps > 0) return opt.steps;
+  if (opt.steps > 0) return explicitSteps(opt);
   const uint32_t most = std::max<uint32_t>(1, opt.maxSteps);
   std::vector<SRTKey> keys;
   for (uint32_t s = 1; s < most; ++s) {

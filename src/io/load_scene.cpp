@@ -31,6 +31,11 @@ CameraSpec frameScene(const Scene& scene) { return frameBox(sceneBounds(scene));
 SceneDescription loadSceneSpec(const std::string& spec, const LoadOptions& options, LoadReport* report) {
   const auto names = proceduralSceneNames();
   std::error_code ec;
+  // A procedural motion moves a static mesh; anything else would ignore it.
+  const std::string ext = lowerExtension(spec);
+  if (!options.motion.empty() && ((ext != ".obj" && ext != ".ply") || isObjSequenceSpec(spec)))
+    throw Error("'" + spec + "': a procedural motion ('" + options.motion +
+                "') applies to a static .obj or .ply mesh only");
   if (std::find(names.begin(), names.end(), spec) != names.end() && !std::filesystem::exists(spec, ec)) {
     ProceduralScene p = makeProceduralScene(spec, options.size, options.seed);
     SceneDescription out;
@@ -50,7 +55,6 @@ SceneDescription loadSceneSpec(const std::string& spec, const LoadOptions& optio
                               files.back());
     return out;
   }
-  const std::string ext = lowerExtension(spec);
   if (ext == ".obj") return staticMesh(spec, readObj(spec), options);
   if (ext == ".ply") return staticMesh(spec, readPly(spec), options);
   if (ext == ".gltf" || ext == ".glb") return loadGltf(spec, options.gltf, report);

@@ -1,11 +1,9 @@
 // Wavefront OBJ: positions and polygon faces of one static mesh.
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <string>
 
+#include "mbrt/io/file_access.h"
 #include "mbrt/io.h"
 
 namespace mbrt {
@@ -139,8 +137,8 @@ class ObjParser {
 ObjMesh readObj(std::istream& in, std::string_view name) { return ObjParser(name).run(in); }
 
 ObjMesh readObj(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  const std::string bytes = io::readInputFile(path);
+  io::MemoryInput in(bytes);
   return readObj(in, path);
 }
 

@@ -1,13 +1,12 @@
 // PLY (ascii and binary little-endian): vertex positions and polygon faces.
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
+#include "mbrt/io/file_access.h"
 #include "mbrt/io.h"
 
 namespace mbrt {
@@ -271,8 +270,8 @@ class PlyReader {
 }  // namespace
 
 ObjMesh readPly(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  const std::string bytes = io::readInputFile(path);
+  io::MemoryInput in(bytes);
   return PlyReader(in, path).run();
 }
 

@@ -1,5 +1,6 @@
-// PNG output through libpng, encoded in memory and then written in one go,
-// so that every I/O failure is reported with the path and errno's reason.
+// PNG output through libpng, encoded in memory and then written in one go
+// (mbrt/io/file_access.h: a temporary file renamed into place), so that every I/O
+// failure is reported with the path and errno's reason.
 #include <png.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <limits>
 
+#include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/scene.h"  // Error
 
@@ -105,18 +107,33 @@ std::vector<uint8_t> encodePng(const Image& image) {
 
 void writePng(const std::string& path, const Image& image) {
   const std::vector<uint8_t> bytes = encodePng(image);
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw Error("cannot open '" + path + "' for writing: " + std::strerror(errno));
-  const size_t written = std::fwrite(bytes.data(), 1, bytes.size(), f);
-  const int writeErrno = errno;
-  const bool ok = written == bytes.size() && std::fflush(f) == 0;
-  const int flushErrno = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!ok || !closed) {
-    const int e = written != bytes.size() ? writeErrno : (!ok ? flushErrno : errno);
-    std::remove(path.c_str());
-    throw Error("cannot write '" + path + "': " + std::strerror(e));
+  io::writeOutputFile(path, bytes);
+}
+
+Image readPng(const std::string& path) {
+  const std::string bytes = io::readInputFile(path);
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()))
+    throw Error("cannot read '" + path + "' as PNG: " + png.message);
+  png.format = PNG_FORMAT_RGB;
+  std::vector<uint8_t> pixels(PNG_IMAGE_SIZE(png));
+  if (!png_image_finish_read(&png, nullptr, pixels.data(), 0, nullptr)) {
+    const std::string message = png.message;
+    png_image_free(&png);
+    throw Error("cannot read '" + path + "' as PNG: " + message);
   }
+  Image image(int(png.width), int(png.height));
+  auto linear = [](uint8_t v) {
+    const float s = float(v) / 255.0f;
+    return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+  };
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const uint8_t* p = &pixels[(size_t(y) * size_t(image.width()) + size_t(x)) * 3];
+      image.at(x, y) = {linear(p[0]), linear(p[1]), linear(p[2])};
+    }
+  return image;
 }
 
 }  // namespace mbrt

@@ -50,7 +50,14 @@ ProceduralMotion parseProceduralMotion(const std::string& spec) {
       }
       // Enough steps that linear interpolation of the arc stays close: about
       // one step per 10 degrees.
-      m.steps = std::max<uint32_t>(m.steps, 1 + uint32_t(std::ceil(std::fabs(m.rotateDegrees) / 10.0f)));
+      // The count is capped: every step is a copy of the mesh.
+      const double steps = 1.0 + std::ceil(std::fabs(double(m.rotateDegrees)) / 10.0);
+      if (steps > double(kMaxProceduralMotionSteps))
+        throw Error("motion '" + spec + "': rotating by " + args.substr(0, c2) + " degrees needs " +
+                    std::to_string((unsigned long long)steps) + " steps (one per 10 degrees), more than the limit of " +
+                    std::to_string(kMaxProceduralMotionSteps) + ": rotate by at most " +
+                    std::to_string((kMaxProceduralMotionSteps - 1) * 10) + " degrees");
+      m.steps = std::max<uint32_t>(m.steps, uint32_t(steps));
     } else {
       throw Error("motion '" + spec + "': unknown part '" + part + "' (translate:X,Y,Z or rotate:DEG[:AX,AY,AZ])");
     }

@@ -3,10 +3,8 @@
 #include "mbrt/ray_file.h"
 
 #include <bit>
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 
+#include "mbrt/io/file_access.h"
 #include "mbrt/scene.h"  // Error
 
 namespace mbrt {
@@ -23,34 +21,6 @@ uint32_t getU32(const uint8_t* p) {
 }
 void putF32(uint8_t* p, float v) { putU32(p, std::bit_cast<uint32_t>(v)); }
 float getF32(const uint8_t* p) { return std::bit_cast<float>(getU32(p)); }
-
-std::vector<uint8_t> readFile(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  std::vector<uint8_t> bytes;
-  uint8_t chunk[1 << 16];
-  size_t n;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) bytes.insert(bytes.end(), chunk, chunk + n);
-  const bool failed = std::ferror(f) != 0;
-  const int e = errno;
-  std::fclose(f);
-  if (failed) throw Error("cannot read '" + path + "': " + std::strerror(e));
-  return bytes;
-}
-
-void writeFile(const std::string& path, const std::vector<uint8_t>& bytes) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw Error("cannot open '" + path + "' for writing: " + std::strerror(errno));
-  const bool written = bytes.empty() || std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const int e1 = errno;
-  const bool flushed = std::fflush(f) == 0;
-  const int e2 = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!written || !flushed || !closed) {
-    const int e = !written ? e1 : (!flushed ? e2 : errno);
-    throw Error("cannot write '" + path + "': " + std::strerror(e));
-  }
-}
 
 void checkSize(size_t size, size_t record, std::string_view name, const char* what) {
   if (size % record != 0)
@@ -112,10 +82,18 @@ std::vector<uint8_t> encodeHits(std::span<const HitRecord> hits) {
   return bytes;
 }
 
-std::vector<Ray> readRays(const std::string& path) { return decodeRays(readFile(path), path); }
-std::vector<HitRecord> readHits(const std::string& path) { return decodeHits(readFile(path), path); }
-void writeRays(const std::string& path, std::span<const Ray> rays) { writeFile(path, encodeRays(rays)); }
-void writeHits(const std::string& path, std::span<const HitRecord> hits) { writeFile(path, encodeHits(hits)); }
+static std::span<const uint8_t> bytesOf(const std::string& s) {
+  return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
+}
+
+std::vector<Ray> readRays(const std::string& path) { return decodeRays(bytesOf(io::readInputFile(path)), path); }
+std::vector<HitRecord> readHits(const std::string& path) {
+  return decodeHits(bytesOf(io::readInputFile(path)), path);
+}
+void writeRays(const std::string& path, std::span<const Ray> rays) { io::writeOutputFile(path, encodeRays(rays)); }
+void writeHits(const std::string& path, std::span<const HitRecord> hits) {
+  io::writeOutputFile(path, encodeHits(hits));
+}
 
 void writeHits(const std::string& path, std::span<const Hit> hits) {
   std::vector<HitRecord> records(hits.size());

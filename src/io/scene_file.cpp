@@ -2,13 +2,11 @@
 // transforms and colours, camera, shutter, lights.
 #include <nlohmann/json.hpp>
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 
+#include "mbrt/io/file_access.h"
 #include "mbrt/loaders.h"
 
 namespace mbrt {
@@ -22,11 +20,10 @@ class SceneFile {
       : path_(path), options_(options), report_(report) {}
 
   SceneDescription run() {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) throw Error("cannot open '" + path_ + "': " + std::strerror(errno));
+    const std::string text = io::readInputFile(path_);
     json doc;
     try {
-      doc = json::parse(in, nullptr, true, /*ignore_comments=*/true);
+      doc = json::parse(text, nullptr, true, /*ignore_comments=*/true);
     } catch (const json::exception& e) {
       fail(std::string("not valid JSON: ") + e.what());
     }
@@ -45,7 +42,11 @@ class SceneFile {
     if (doc.contains("steps") && options_.gltf.steps.steps == 0) {
       const json& s = doc["steps"];
       if (s.is_string() && s.get<std::string>() == "auto") opt.gltf.steps.steps = 0;
-      else opt.gltf.steps.steps = uint32_t(positiveInt(s, "steps"));
+      else {
+        const long long n = positiveInt(s, "steps");
+        if (n > 1024) fail("'steps' must be at most 1024 (each step is a copy of the meshes), got " + std::to_string(n));
+        opt.gltf.steps.steps = uint32_t(n);
+      }
     }
     SceneDescription out;
     out.name = path_;
@@ -64,12 +65,12 @@ class SceneFile {
       for (const json& l : doc["lights"]) {
         DirectionalLight light;
         if (l.contains("direction")) light.direction = vec3(l["direction"], "light direction");
-        if (l.contains("radiance")) light.radiance = vec3(l["radiance"], "light radiance");
+        if (l.contains("radiance")) light.radiance = colour(l["radiance"], "light radiance", 1e6);
         if (length(light.direction) == 0) fail("a light direction is zero");
         out.lights.push_back(light);
       }
     }
-    if (doc.contains("sky")) out.skyColor = vec3(doc["sky"], "sky");
+    if (doc.contains("sky")) out.skyColor = colour(doc["sky"], "sky", 1e6);
     return out;
   }
 
@@ -94,6 +95,17 @@ class SceneFile {
   }
   Vec3f vec3(const json& j, const std::string& what) const {
     const auto v = numbers(j, what, 3);
+    return {float(v[0]), float(v[1]), float(v[2])};
+  }
+
+  // A colour: three numbers in [0, maxValue] (a negative radiance or an
+  // albedo above 1 would make light from nothing).
+  Vec3f colour(const json& j, const std::string& what, double maxValue) const {
+    const auto v = numbers(j, what, 3);
+    for (double x : v)
+      if (!(x >= 0.0 && x <= maxValue))
+        fail("'" + what + "' values must be in [0, " + (maxValue == 1.0 ? std::string("1") : std::string("1e6")) +
+             "], got " + json(v).dump());
     return {float(v[0]), float(v[1]), float(v[2])};
   }
 
@@ -167,7 +179,7 @@ class SceneFile {
     SceneDescription part = loadSceneSpec(spec, sub, report_);
     const SRTKey xf = transform(o, what);
     std::optional<Vec3f> diffuse;
-    if (o.contains("diffuse")) diffuse = vec3(o["diffuse"], what + " diffuse");
+    if (o.contains("diffuse")) diffuse = colour(o["diffuse"], what + " diffuse", 1.0);
     merge(part, xf, diffuse, what, out);
   }
 
