@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/traced_structure.h"
 #include "fuzzykd/fuzzykd_stats.h"
 #include "fuzzykd/fuzzykd_trees.h"
 #include "fuzzykd/scene_split.h"
@@ -13,7 +14,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-class FuzzyKd final : public Structure, public FuzzyKdInspect {
+class FuzzyKd final : public TracedStructure<FuzzyKd>, public FuzzyKdInspect {
  public:
   explicit FuzzyKd(const SceneContext& ctx) : ctx_(ctx) {
     const auto t0 = Clock::now();
@@ -36,12 +37,9 @@ class FuzzyKd final : public Structure, public FuzzyKdInspect {
     sahCost_ = fuzzySahCost(ctx, trees_);
   }
 
-  bool intersect(RayQuery& ray, Hit& hit) const override {
-    return traceTrees<false, false>(ctx_, trees_, ray, &hit, nullptr);
-  }
-  bool occluded(RayQuery& ray) const override { return traceTrees<true, false>(ctx_, trees_, ray, nullptr, nullptr); }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    return traceTrees<false, true>(ctx_, trees_, ray, &hit, &c);
+  template <bool AnyHit, bool Count>
+  bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
+    return traceTrees<AnyHit, Count>(ctx_, trees_, ray, hit, counters);
   }
 
   void fillStats(AccelStats& s) const override { fillFuzzyStats(trees_, stats_, sahCost_, s); }

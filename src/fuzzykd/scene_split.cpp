@@ -10,11 +10,6 @@ namespace {
 constexpr uint32_t kMinMeshTriangles = 32;
 constexpr uint32_t kMinClusterTriangles = 4;
 
-bool finiteBounds(const LBounds& b) {
-  return isFinite(b.b0.lower) && isFinite(b.b0.upper) && isFinite(b.b1.lower) && isFinite(b.b1.upper) &&
-         !b.b0.empty() && !b.b1.empty();
-}
-
 class Splitter {
  public:
   Splitter(const SceneContext& ctx, FuzzyKdStats& stats) : ctx_(ctx), stats_(stats) {}
@@ -28,7 +23,7 @@ class Splitter {
       const Geometry& geo = ctx_.geometry(g);
       for (uint32_t p = 0; p < geo.numPrimitives(); ++p) {
         const LBounds b = linearBounds(ctx_, {g, p}, {0.0f, 1.0f});
-        if (!finiteBounds(b)) continue;
+        if (!isUsable(b)) continue;
         perGeometry[g].push_back({g, p});
         sceneBox.extend(b.hull());
       }

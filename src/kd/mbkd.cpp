@@ -4,15 +4,16 @@
 #include <unordered_map>
 
 #include "core/sah_sums.h"
-#include "scene/scene_area.h"
-#include "scene/primitive_bounds.h"
+#include "core/traced_structure.h"
 #include "kd/kd_leaf_blocks.h"
 #include "kd/kd_traverse.h"
+#include "scene/primitive_bounds.h"
+#include "scene/scene_area.h"
 
 namespace mbrt::detail {
 namespace {
 
-class Mbkd final : public Structure, public KdInspect {
+class Mbkd final : public TracedStructure<Mbkd>, public KdInspect {
  public:
   explicit Mbkd(const SceneContext& ctx) : ctx_(ctx) {
     const std::vector<PrimRef> all = ctx.primitives();
@@ -20,9 +21,7 @@ class Mbkd final : public Structure, public KdInspect {
     // finite cell; the BVHs drop them too.
     for (const PrimRef& p : all) {
       const LBounds b = linearBounds(ctx, p, {0.0f, 1.0f});
-      if (isFinite(b.b0.lower) && isFinite(b.b0.upper) && isFinite(b.b1.lower) && isFinite(b.b1.upper) &&
-          !b.b0.empty() && !b.b1.empty())
-        prims_.push_back(p);
+      if (isUsable(b)) prims_.push_back(p);
     }
     ctx.budget().charge(prims_.size() * sizeof(PrimRef), "the kd-tree primitive list");
     {
@@ -40,10 +39,9 @@ class Mbkd final : public Structure, public KdInspect {
     tree_.refs = {};  // now in the blocks
   }
 
-  bool intersect(RayQuery& ray, Hit& hit) const override { return traceBlocks<false, false>(ray, &hit, nullptr); }
-  bool occluded(RayQuery& ray) const override { return traceBlocks<true, false>(ray, nullptr, nullptr); }
-  bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    return traceBlocks<false, true>(ray, &hit, &c);
+  template <bool AnyHit, bool Count>
+  bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
+    return traceBlocks<AnyHit, Count>(ray, hit, counters);
   }
 
   void fillStats(AccelStats& s) const override {
