@@ -33,7 +33,7 @@ declare -A ALLOWED=(
 # The module of each public header.
 declare -A PUBLIC=(
   [error.h]=core [math.h]=core [quaternion.h]=core [ray.h]=core
-  [build_options.h]=core [accel_stats.h]=core
+  [build_options.h]=core [accel_stats.h]=core [camera.h]=core
   [scene.h]=scene [scene_bounds.h]=scene
   [accel.h]=accel
   [scenes.h]=scenes

@@ -8,8 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "camera.h"
+#include "rng.h"
 #include "commands.h"
+#include "mbrt/camera.h"
 #include "mbrt/io/file_access.h"
 #include "mbrt/ray_file.h"
 #include "output_paths.h"

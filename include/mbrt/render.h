@@ -93,11 +93,9 @@ class RenderCamera {
   float shutterTime(float u) const { return open_ + (close_ - open_) * u; }
 
  private:
-  struct Pose {
-    Vec3f eye, u, v, w;  // w points backwards
-    float halfH = 1.0f, focus = 1.0f;
-  };
-  Pose poseAt(float time) const;
+  // The view at a time (keys interpolated) and its distance of focus.
+  CameraSpec viewAt(float time) const;
+  float focusOf(const CameraSpec& view) const;
 
   std::vector<CameraSpec> keys_;
   float aperture_ = 0.0f, focusDistance_ = 0.0f;

@@ -9,17 +9,10 @@
 #include <string_view>
 #include <vector>
 
+#include "mbrt/camera.h"
 #include "mbrt/scene.h"
 
 namespace mbrt {
-
-// A pinhole camera looking at a scene.
-struct CameraSpec {
-  Vec3f eye{0, 0, 5};
-  Vec3f target{0, 0, 0};
-  Vec3f up{0, 1, 0};
-  float verticalFovDegrees = 40.0f;
-};
 
 struct ProceduralScene {
   std::string name;

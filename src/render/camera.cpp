@@ -66,7 +66,7 @@ RenderCamera::RenderCamera(const SceneDescription& scene, int width, int height,
   }
 }
 
-RenderCamera::Pose RenderCamera::poseAt(float time) const {
+CameraSpec RenderCamera::viewAt(float time) const {
   CameraSpec k = keys_.front();
   if (keys_.size() > 1) {
     const float x = std::clamp(time, 0.0f, 1.0f) * float(keys_.size() - 1);
@@ -78,38 +78,30 @@ RenderCamera::Pose RenderCamera::poseAt(float time) const {
     k.up = lerp(a.up, b.up, f);
     k.verticalFovDegrees = a.verticalFovDegrees + (b.verticalFovDegrees - a.verticalFovDegrees) * f;
   }
-  Pose p;
-  p.eye = k.eye;
-  const Vec3f view = k.eye - k.target;
-  p.w = normalize(view);
-  p.u = normalize(cross(k.up, p.w));
-  p.v = cross(p.w, p.u);
-  p.halfH = std::tan(0.5f * k.verticalFovDegrees * std::numbers::pi_v<float> / 180.0f);
-  p.focus = focusDistance_ > 0.0f ? focusDistance_ : length(view);
-  return p;
+  return k;
+}
+
+float RenderCamera::focusOf(const CameraSpec& view) const {
+  return focusDistance_ > 0.0f ? focusDistance_ : length(view.eye - view.target);
 }
 
 Ray RenderCamera::generate(float px, float py, float lu, float lv, float u) const {
+  const float time = shutterTime(u);
+  const CameraSpec view = viewAt(time);
+  const PinholeCamera pinhole(view, aspect_);
+  const float x = px / width_, y = py / height_;
+  if (!(aperture_ > 0.0f)) return pinhole.ray(x, y, time);
+  // Thin lens: every lens point sees the same point on the plane of focus.
+  float dx, dy;
+  sampleDisk(lu, lv, dx, dy);
+  const Vec3f lens = pinhole.right() * (dx * aperture_) + pinhole.up() * (dy * aperture_);
+  const Vec3f focal = pinhole.direction(x, y) * focusOf(view);
   Ray r;
-  r.time = shutterTime(u);
-  const Pose p = poseAt(r.time);
-  const float sx = (2.0f * px / width_ - 1.0f) * aspect_ * p.halfH;
-  const float sy = (1.0f - 2.0f * py / height_) * p.halfH;
-  const Vec3f d = p.u * sx + p.v * sy - p.w;  // one unit along the view axis
-  if (aperture_ > 0.0f) {
-    // Thin lens: every lens point sees the same point on the plane of focus.
-    float dx, dy;
-    sampleDisk(lu, lv, dx, dy);
-    const Vec3f lens = p.u * (dx * aperture_) + p.v * (dy * aperture_);
-    const Vec3f focal = d * p.focus;
-    r.org = p.eye + lens;
-    r.dir = normalize(focal - lens);
-  } else {
-    r.org = p.eye;
-    r.dir = normalize(d);
-  }
+  r.org = pinhole.eye() + lens;
+  r.dir = normalize(focal - lens);
   r.tnear = 0.0f;
   r.tfar = kInf;
+  r.time = time;
   return r;
 }
 
