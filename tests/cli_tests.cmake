@@ -143,3 +143,4 @@ set_tests_properties(cli.error_render_clusters_accel PROPERTIES PASS_REGULAR_EXP
 add_test(NAME cli.error_render_camera_shutter
          COMMAND mbrt_cli render demo --camera-shutter 0.7,0.2 -o ${MBRT_CLI_OUT}/c.png)
 set_tests_properties(cli.error_render_camera_shutter PROPERTIES PASS_REGULAR_EXPRESSION "mbrt: error: .*camera-shutter")
+include(${CMAKE_CURRENT_LIST_DIR}/cli_bench_tests.cmake)
