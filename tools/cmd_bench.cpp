@@ -225,9 +225,9 @@ void registerBenchCommand(CLI::App& app) {
   cmd->add_option("--rays-file", args->rayFile,
                   "Trace these rays (mbrt trace format) as the secondary set of the one scene given");
   cmd->add_option("--budget", args->budget,
-                  "Seconds all timed passes of one structure over one ray set may take (default 20, --quick 2; "
-                  "its counted pass gets a quarter of it); slower structures are timed and counted on "
-                  "every k-th ray")
+                  "Seconds all timed passes of one structure over its main ray set may take (default 20, --quick 2; "
+                  "the other sets get half of it each, its counted pass a quarter); slower structures are "
+                  "timed and counted on every k-th ray")
       ->check(kFinitePositive);
   cmd->add_option("--json", args->json, "Write every figure as JSON to this file");
   cmd->add_option("--html", args->html, "Write an HTML report with SVG bar charts to this file");

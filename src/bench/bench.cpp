@@ -197,7 +197,8 @@ class Runner {
   // would not fit the time budget (estimated from a probe spread over the
   // whole set: a prefix of the primaries would be all sky). Returns the
   // answers of the traced rays; perRay gets the probe's seconds per ray.
-  SetOutput timeSet(const Target& target, RaySet set, bool oneThread, SetResult& fig, double& perRay) {
+  SetOutput timeSet(const Target& target, RaySet set, RaySet mainSet, bool oneThread, SetResult& fig,
+                    double& perRay) {
     const std::vector<Ray>& rays = sets_[set];
     const bool occl = isOcclusion(set);
     SetOutput out;
@@ -216,8 +217,9 @@ class Runner {
     perRay = seconds(p0) / double(scratch.size());
     const int repeats = std::max(1, o_.repeats);
     const double cost = perRay * double(rays.size()) * repeats * (oneThread ? 1.0 + report_.threads : 1.0);
-    if (cost > o_.passBudgetSeconds)
-      out.stride = std::min(probeStride, size_t(std::ceil(cost / o_.passBudgetSeconds)));
+    // The main set gets the whole budget, the others half of it each.
+    const double budget = set == mainSet ? o_.passBudgetSeconds : 0.5 * o_.passBudgetSeconds;
+    if (cost > budget) out.stride = std::min(probeStride, size_t(std::ceil(cost / budget)));
     const std::vector<Ray> timed = out.stride == 1 ? rays : every(out.stride);
     fig.timedRays = timed.size();
     auto timedMedian = [&](auto&& f) {
@@ -289,8 +291,10 @@ class Runner {
       const bool main = s == res.mainSet();
       double perRay = 0.0;
       SetResult& fig = res.set(s);
-      const bool oneThread = !o_.secondaryOnly && (s != RaySet::Frozen || cand.frozen);
-      outputs[size_t(s)] = timeSet(*target, s, oneThread, fig, perRay);
+      // One thread too on the row's main set (the headline), all threads on
+      // the others: that keeps the default run within its half hour.
+      const bool oneThread = !o_.secondaryOnly && main;
+      outputs[size_t(s)] = timeSet(*target, s, res.mainSet(), oneThread, fig, perRay);
       bruteAgreement(s, outputs[size_t(s)], fig);
       if (main) count(*target, s, perRay, res);
     }

@@ -113,11 +113,16 @@ void sceneTable(std::ostringstream& out, const Report& report, const SceneInfo& 
   }
   if (const Result* best = bestMbrt(report, scene, RaySet::Secondary))
     out << "\nBest mbrt kind on the secondary set: `" << best->accel << "`.\n";
-  for (const Result& r : report.results)
+  for (const Result& r : report.results) {
+    std::string cut;
     for (RaySet s : kAllRaySets)
       if (r.scene == scene && r.set(s).traced && r.set(s).timedRays < r.set(s).rays)
-        out << "\n`" << r.accel << "` was timed on " << r.set(s).timedRays << " of the " << r.set(s).rays << " "
-            << toString(s) << " rays, evenly spread over the set (its full passes would exceed the time budget).\n";
+        cut += std::string(cut.empty() ? "" : ", ") + std::to_string(r.set(s).timedRays) + " of the " +
+               std::to_string(r.set(s).rays) + " " + std::string(toString(s)) + " rays";
+    if (!cut.empty())
+      out << "\n`" << r.accel << "` was timed on " << cut
+          << ", evenly spread over each set (its full passes would exceed the time budget).\n";
+  }
   for (const Result& r : report.results) {
     const size_t full = std::min(report.options.countSample, r.set(r.mainSet()).rays);
     if (r.scene == scene && r.countedRays > 0 && r.countedRays < full)
