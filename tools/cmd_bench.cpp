@@ -226,7 +226,7 @@ void registerBenchCommand(CLI::App& app) {
                   "Trace these rays (mbrt trace format) as the secondary set of the one scene given");
   cmd->add_option("--budget", args->budget,
                   "Seconds all timed passes of one structure over its main ray set may take (default 20, --quick 2; "
-                  "the other sets get half of it each, its counted pass a quarter); slower structures are "
+                  "the other sets and its counted pass a quarter of it each); slower structures are "
                   "timed and counted on every k-th ray")
       ->check(kFinitePositive);
   cmd->add_option("--json", args->json, "Write every figure as JSON to this file");

@@ -217,8 +217,8 @@ class Runner {
     perRay = seconds(p0) / double(scratch.size());
     const int repeats = std::max(1, o_.repeats);
     const double cost = perRay * double(rays.size()) * repeats * (oneThread ? 1.0 + report_.threads : 1.0);
-    // The main set gets the whole budget, the others half of it each.
-    const double budget = set == mainSet ? o_.passBudgetSeconds : 0.5 * o_.passBudgetSeconds;
+    // The main set gets the whole budget, the others a quarter of it each.
+    const double budget = set == mainSet ? o_.passBudgetSeconds : 0.25 * o_.passBudgetSeconds;
     if (cost > budget) out.stride = std::min(probeStride, size_t(std::ceil(cost / budget)));
     const std::vector<Ray> timed = out.stride == 1 ? rays : every(out.stride);
     fig.timedRays = timed.size();
@@ -292,7 +292,8 @@ class Runner {
       double perRay = 0.0;
       SetResult& fig = res.set(s);
       // One thread too on the row's main set (the headline), all threads on
-      // the others: that keeps the default run within its half hour.
+      // the others: with the shorter budget of the other sets, that keeps
+      // the default run within its half hour.
       const bool oneThread = !o_.secondaryOnly && main;
       outputs[size_t(s)] = timeSet(*target, s, res.mainSet(), oneThread, fig, perRay);
       bruteAgreement(s, outputs[size_t(s)], fig);
