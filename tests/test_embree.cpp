@@ -16,6 +16,7 @@ TEST(Embree, NotBuiltIn) { GTEST_SKIP() << "mbrt was built without Embree (MBRT_
 
 #include <embree3/rtcore.h>
 
+#include "embree/embree_ray.h"
 #include "embree/embree_structure.h"
 
 using namespace mbrt;
@@ -320,6 +321,95 @@ TEST(Embree, NestedInstancesAreRefusedClearly) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("instance level"), std::string::npos) << e.what();
   }
+}
+
+// Embree asserts (SIGABRT, ray.valid()) on ray origins beyond 1.844e18,
+// which mbrt accepts: the structure moves such origins onto a cube around
+// the coordinate limit first. Without that, this test aborts.
+TEST(Embree, FarRayOriginsAreMovedBeforeEmbreeSeesThem) {
+  // A triangle in z = 0 covering the z axis, and rays from afar: expected
+  // answers by construction for a unit triangle. For one at the coordinate
+  // limit (an OBJ at 1e18) Embree's own arithmetic overflows from origins at
+  // 1e17 on, moved or not (it misses, or hits at t = inf): there the test is
+  // that Embree is called without aborting.
+  struct Case {
+    Ray ray;
+    float t;  // expected hit distance; inf: a miss
+  };
+  std::vector<Case> cases;
+  for (const float z : {2e18f, 3e18f, 1e30f, -5e25f}) {
+    Ray r;
+    r.org = {0.0f, 0.0f, z};
+    r.dir = {0.0f, 0.0f, z > 0 ? -1.0f : 1.0f};  // straight at the triangle
+    cases.push_back({r, std::fabs(z)});
+    r.dir = -r.dir;  // and away from it
+    cases.push_back({r, kInf});
+  }
+  Ray shortRay = cases[0].ray;  // ends before it reaches the cube
+  shortRay.tfar = 1e17f;
+  cases.push_back({shortRay, kInf});
+  Ray beside;  // parallel to the cube's faces, outside it
+  beside.org = {0.0f, 4e18f, 4e18f};
+  beside.dir = {0.0f, 0.0f, -1.0f};
+  cases.push_back({beside, kInf});
+
+  Ray slanted;  // along a diagonal
+  slanted.org = {5e18f, 2.0f, 5e18f};  // passes x = z = 0 above the triangle
+  slanted.dir = {-2.0f, 0.0f, -2.0f};
+  cases.push_back({slanted, kInf});
+  for (const float scale : {1.0f, 1e18f}) {
+    Scene scene;
+    scene.addTriangleMesh({{0, 1, 2}}, std::vector<std::vector<Vec3f>>{
+                                           {{-scale, -scale, 0}, {scale, -scale, 0}, {0, scale, 0}}});
+    for (auto mode : {BuildOptions::EmbreeMode::Robust, BuildOptions::EmbreeMode::Default}) {
+      BuildOptions eo;
+      eo.kind = AccelKind::Embree;
+      eo.embreeMode = mode;
+      auto embree = Accel::build(scene, eo);
+      for (size_t i = 0; i < cases.size(); ++i) {
+        Hit h;
+        const bool hit = embree->intersect(cases[i].ray, h);
+        const bool occluded = embree->occluded(cases[i].ray);
+        if (scale != 1.0f) continue;
+        ASSERT_EQ(hit, !std::isinf(cases[i].t)) << "ray " << i << " mode " << int(mode);
+        EXPECT_EQ(occluded, hit) << "ray " << i;
+        if (hit) EXPECT_NEAR(h.t, cases[i].t, 1e-6 * cases[i].t) << "ray " << i;
+      }
+      // At the far end of float: no abort, and rays counted as traced.
+      for (const float z : {3e38f, -3e38f}) {
+        Ray r;
+        r.org = {1e38f, -2e38f, z};
+        r.dir = {0.0f, 0.0f, z > 0 ? -1.0f : 1.0f};
+        Hit h;
+        embree->intersect(r, h);
+        embree->occluded(r);
+      }
+      EXPECT_EQ(embree->stats().invalidRays, 0u);
+    }
+  }
+}
+
+TEST(Embree, TheFarOriginClipLandsOnTheCube) {
+  const float c = detail::kEmbreeClipCube;
+  auto clip = [](Vec3f o, Vec3f d, float tn = 0.0f, float tf = kInf) { return detail::clipForEmbree(o, d, tn, tf); };
+  const auto in = clip({1e18f, 0, 0}, {-1, 0, 0});  // within the limit: untouched
+  EXPECT_FALSE(in.miss);
+  EXPECT_EQ(in.shift, 0.0f);
+  EXPECT_EQ(in.org.x, 1e18f);
+  const auto far = clip({2e18f, 0, 0}, {-1, 0, 0});
+  EXPECT_FALSE(far.miss);
+  EXPECT_FLOAT_EQ(far.shift, 2e18f - c);
+  EXPECT_FLOAT_EQ(far.org.x, c);
+  EXPECT_EQ(far.tnear, 0.0f);
+  EXPECT_EQ(far.tfar, kInf);
+  EXPECT_LE(std::fabs(far.org.x), detail::kEmbreeOriginLimit);
+  const auto later = clip({2e18f, 0, 0}, {-1, 0, 0}, 1.5e18f, 3e18f);  // tnear past the entry: start there
+  EXPECT_FLOAT_EQ(later.shift, 1.5e18f);
+  EXPECT_FLOAT_EQ(later.tfar, 1.5e18f);
+  EXPECT_TRUE(clip({2e18f, 0, 0}, {1, 0, 0}).miss) << "away from the cube";
+  EXPECT_TRUE(clip({2e18f, 0, 0}, {-1, 0, 0}, 0.0f, 1e17f).miss) << "ends before the cube";
+  EXPECT_TRUE(clip({0, 2e18f, 0}, {1, 0, 0}).miss) << "parallel, outside";
+  EXPECT_FALSE(clip({-1e38f, 1e38f, 0}, {1, -1, 0}).miss) << "through the cube from afar";
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,12 @@ struct BuildOptions {
   float frozenTime = 0.5f;    // time of the `frozen` kind
   size_t memoryBudget = 0;    // bytes the build may use; 0 = unlimited
   int maxInstanceDepth = 8;   // nesting of instances
+  // `embree` only: Robust (RTC_SCENE_FLAG_ROBUST, watertight as mbrt; what the
+  // oracle tests compare with), Default (Embree's default flags, what its
+  // users run) or Static (default flags, Embree's static BVH over the scene
+  // frozen at frozenTime). A field, not kinds: no test that walks every kind
+  // meets a non-watertight structure, and no kind list changes.
+  enum class EmbreeMode : uint8_t { Robust, Default, Static } embreeMode = EmbreeMode::Robust;
 };
 
 }  // namespace mbrt

@@ -1,5 +1,5 @@
-// The benchmark's outputs: a markdown table, JSON, an HTML page of SVG bar
-// charts and one SVG chart of every structure's rays/s relative to Embree.
+// The benchmark's tables: markdown (per scene, then the geometric means) and
+// JSON, and the best-kind and geometric-mean figures they print.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,64 +7,128 @@
 #include <sstream>
 
 #include "mbrt/bench.h"
+#include "bench/report_util.h"
 
 namespace mbrt::bench {
-namespace {
 
-std::string fmt(double v, int digits = 3) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-template <class T>
-std::string opt(const std::optional<T>& v, int digits = 3) {
-  return v ? fmt(double(*v), digits) : "n/a";
+const Result* bestMbrt(const Report& report, const std::string& scene, RaySet set) {
+  const Result* best = nullptr;
+  for (const Result& r : report.results) {
+    if (r.scene != scene || r.peer || r.frozen != (set == RaySet::Frozen)) continue;
+    const SetResult& s = r.set(set);
+    if (!s.traced || !(s.mraysMt > 0)) continue;
+    if (!best || s.mraysMt > best->set(set).mraysMt) best = &r;
+  }
+  return best;
 }
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (uint8_t(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
+std::vector<Geomean> geomeans(const Report& report) {
+  std::vector<Geomean> out;
+  for (RaySet set : kAllRaySets) {
+    const std::vector<std::string> peers =
+        set == RaySet::Frozen ? std::vector<std::string>{"embree-static"} : std::vector<std::string>{"embree", "embree-robust"};
+    for (const std::string& peer : peers) {
+      Geomean g{set, peer, 0.0, 0};
+      double logSum = 0.0;
+      for (const std::string& scene : sceneOrder(report)) {
+        const Result* best = bestMbrt(report, scene, set);
+        const Result* p = find(report, scene, peer);
+        if (!best || !p || !p->set(set).traced || !(p->set(set).mraysMt > 0)) continue;
+        logSum += std::log(best->set(set).mraysMt / p->set(set).mraysMt);
+        ++g.scenes;
+      }
+      if (g.scenes == 0) continue;
+      g.value = std::exp(logSum / g.scenes);
+      out.push_back(g);
     }
   }
-  return out + "\"";
-}
-std::string jsonNum(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-template <class T>
-std::string jsonOpt(const std::optional<T>& v) {
-  return v ? jsonNum(double(*v)) : "null";
+  return out;
 }
 
-const Result* find(const Report& r, const std::string& scene, const std::string& accel) {
-  for (const Result& x : r.results)
-    if (x.scene == scene && x.accel == accel) return &x;
-  return nullptr;
+namespace {
+
+std::string percent(double v) { return fmt(100.0 * v, 3) + "%"; }
+
+std::string setLine(const SceneInfo& info) {
+  auto one = [&](RaySet s, const char* what) {
+    const SetInfo& x = info.sets[size_t(s)];
+    return std::string(toString(s)) + " " + std::to_string(x.rays) + " (" + what + " " + percent(x.hitRate) + ")";
+  };
+  std::string line = "Rays: " + one(RaySet::Primary, "hit") + ", " + one(RaySet::Secondary, "hit");
+  if (info.bounces + info.inward > 0)
+    line += " = " + std::to_string(info.bounces) + " bounces + " + std::to_string(info.inward) + " from around";
+  line += ", " + one(RaySet::Shadow, "occluded") + ", " + one(RaySet::Frozen, "hit") + ".";
+  return line;
 }
 
-std::vector<std::string> sceneOrder(const Report& r) {
-  std::vector<std::string> s;
-  for (const Result& x : r.results)
-    if (s.empty() || s.back() != x.scene) s.push_back(x.scene);
-  return s;
+std::string setMt(const Result& r, RaySet s) { return r.set(s).traced ? fmt(r.set(s).mraysMt) : "–"; }
+
+std::string setRatio(const Result& r, const Result* base, RaySet s) {
+  if (!base || !r.set(s).traced || !base->set(s).traced || !(base->set(s).mraysMt > 0)) return "–";
+  return fmt(r.set(s).mraysMt / base->set(s).mraysMt);
 }
 
-std::string ratio(double a, const Result* base, double Result::*field) {
-  if (!base || !(base->*field > 0)) return "–";
-  return fmt(a / (base->*field), 3);
+std::string mismatchText(const Result& r) {
+  size_t brute = 0, checked = 0, embree = 0;
+  bool anyEmbree = false;
+  for (const SetResult& s : r.sets) {
+    brute += s.mismatchesBrute;
+    checked += s.bruteChecked;
+    if (s.mismatchesEmbree) {
+      anyEmbree = true;
+      embree += *s.mismatchesEmbree;
+    }
+  }
+  std::string m = std::to_string(brute) + "/" + std::to_string(checked) + " brute";
+  if (anyEmbree) m += ", " + std::to_string(embree) + " embree-robust";
+  return m;
+}
+
+void sceneTable(std::ostringstream& out, const Report& report, const SceneInfo& info) {
+  const std::string& scene = info.name;
+  const Result* embree = find(report, scene, "embree");
+  const Result* robust = find(report, scene, "embree-robust");
+  const Result* estatic = find(report, scene, "embree-static");
+  // The headline set's size in the title, the others in the line below.
+  out << "\n### " << scene << " (" << info.primitives << " primitives, " << info.sets[size_t(RaySet::Secondary)].rays
+      << " rays)\n\n"
+      << setLine(info) << "\n\n";
+  out << "| accel | build s | Mprims/s | MB | peak MB | SAH | steps | box tests | isects | primary Mrays/s"
+         " | secondary Mrays/s 1t | secondary Mrays/s mt | shadow Mrays/s | sec ÷ embree | sec ÷ embree-robust"
+         " | mem ÷ embree | build ÷ embree | frozen set Mrays/s | frozen ÷ embree-static | mismatches |\n";
+  out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const Result& r : report.results) {
+    if (r.scene != scene) continue;
+    const SetResult& sec = r.set(RaySet::Secondary);
+    out << "| " << r.accel << " | " << fmt(r.buildS) << " | " << fmt(r.buildMprims) << " | "
+        << fmt(double(r.bytes) / 1e6) << " | " << fmt(double(r.peakBuildBytes) / 1e6) << " | " << opt(r.sah)
+        << " | " << opt(r.stepsMean) << " | " << opt(r.boxTestsMean) << " | " << opt(r.isectsMean) << " | "
+        << setMt(r, RaySet::Primary) << " | " << (sec.traced ? fmt(sec.mraysSt) : "–") << " | "
+        << setMt(r, RaySet::Secondary) << " | " << setMt(r, RaySet::Shadow) << " | "
+        << setRatio(r, embree, RaySet::Secondary) << " | " << setRatio(r, robust, RaySet::Secondary) << " | "
+        << (embree && embree->bytes ? fmt(double(r.bytes) / double(embree->bytes)) : "–") << " | "
+        << (embree && embree->buildS > 0 ? fmt(r.buildS / embree->buildS) : "–") << " | "
+        << setMt(r, RaySet::Frozen) << " | " << setRatio(r, estatic, RaySet::Frozen) << " | " << mismatchText(r)
+        << " |\n";
+  }
+  if (const Result* best = bestMbrt(report, scene, RaySet::Secondary))
+    out << "\nBest mbrt kind on the secondary set: `" << best->accel << "`.\n";
+  for (const Result& r : report.results) {
+    std::string cut;
+    for (RaySet s : kAllRaySets)
+      if (r.scene == scene && r.set(s).traced && r.set(s).timedRays < r.set(s).rays)
+        cut += std::string(cut.empty() ? "" : ", ") + std::to_string(r.set(s).timedRays) + " of the " +
+               std::to_string(r.set(s).rays) + " " + std::string(toString(s)) + " rays";
+    if (!cut.empty())
+      out << "\n`" << r.accel << "` was timed on " << cut
+          << ", evenly spread over each set (its full passes would exceed the time budget).\n";
+  }
+  for (const Result& r : report.results) {
+    const size_t full = std::min(report.options.countSample, r.set(r.mainSet()).rays);
+    if (r.scene == scene && r.countedRays > 0 && r.countedRays < full)
+      out << "\n`" << r.accel << "`'s counters are over " << r.countedRays << " of the " << full
+          << " sampled rays (counting them all would exceed its time budget).\n";
+  }
 }
 
 }  // namespace
@@ -72,53 +136,64 @@ std::string ratio(double a, const Result* base, double Result::*field) {
 std::string toMarkdown(const Report& report) {
   std::ostringstream out;
   out << "mbrt bench — " << report.cpu << ", " << report.threads << " threads, commit " << report.commit << "\n";
-  for (const std::string& scene : sceneOrder(report)) {
-    const Result* interp = find(report, scene, "bvh-interp");
-    const Result* embree = find(report, scene, "embree");
-    const Result* frozen = find(report, scene, "frozen");
-    size_t prims = 0, rays = 0;
-    for (const Result& r : report.results)
-      if (r.scene == scene) {
-        prims = std::max(prims, r.primitives);
-        if (r.accel != "frozen") rays = r.rays;
+  for (const SceneInfo& info : report.scenes) sceneTable(out, report, info);
+  const std::vector<Geomean> gms = geomeans(report);
+  if (!gms.empty()) {
+    out << "\n### Geometric mean over scenes: best mbrt kind ÷ Embree (rays/s, all threads)\n\n";
+    out << "| set | ÷ embree | ÷ embree-robust | ÷ embree-static | scenes |\n|---|---:|---:|---:|---:|\n";
+    for (RaySet set : kAllRaySets) {
+      std::string cells[3] = {"–", "–", "–"};
+      int scenes = 0;
+      for (const Geomean& g : gms) {
+        if (g.set != set) continue;
+        const int col = g.peer == "embree" ? 0 : g.peer == "embree-robust" ? 1 : 2;
+        cells[col] = fmt(g.value);
+        scenes = std::max(scenes, g.scenes);
       }
-    out << "\n### " << scene << " (" << prims << " primitives, " << rays << " rays)\n\n";
-    out << "| accel | build s | Mprims/s | MB | peak MB | SAH | steps | box tests | isects | Mrays/s 1t | Mrays/s mt"
-           " | mt ÷ bvh-interp | mt ÷ embree | mem ÷ embree | build ÷ embree | frozen set Mrays/s | ÷ frozen | mismatches |\n";
-    out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const Result& r : report.results) {
-      if (r.scene != scene) continue;
-      std::string mism = std::to_string(r.mismatchesBrute) + "/" + std::to_string(r.bruteChecked) + " brute";
-      if (r.mismatchesEmbree) mism += ", " + std::to_string(*r.mismatchesEmbree) + " embree";
-      out << "| " << r.accel << " | " << fmt(r.buildS) << " | " << fmt(r.buildMprims) << " | "
-          << fmt(double(r.bytes) / 1e6) << " | " << fmt(double(r.peakBuildBytes) / 1e6) << " | " << opt(r.sah)
-          << " | " << opt(r.stepsMean) << " | " << opt(r.boxTestsMean) << " | " << opt(r.isectsMean) << " | "
-          << fmt(r.mraysSt) << " | " << fmt(r.mraysMt) << " | " << ratio(r.mraysMt, interp, &Result::mraysMt)
-          << " | " << ratio(r.mraysMt, embree, &Result::mraysMt) << " | "
-          << (embree && embree->bytes ? fmt(double(r.bytes) / double(embree->bytes)) : "–") << " | "
-          << ratio(r.buildS, embree, &Result::buildS) << " | " << fmt(r.frozenSet.mraysMt) << " | "
-          << (frozen && frozen->frozenSet.mraysMt > 0 ? fmt(r.frozenSet.mraysMt / frozen->frozenSet.mraysMt) : "–")
-          << " | " << mism << " |\n";
-    }
-    for (const Result& r : report.results)
-      if (r.scene == scene && r.timedRays < r.rays)
-        out << "\n`" << r.accel << "` was timed on " << r.timedRays << " of the " << r.rays
-            << " rays, evenly spread over the set (its full passes would exceed the time budget); mismatches are over those.\n";
-    for (const Result& r : report.results) {
-      const size_t full = std::min(report.options.countSample, r.rays);
-      if (r.scene == scene && r.countedRays > 0 && r.countedRays < full)
-        out << "\n`" << r.accel << "`'s counters are over " << r.countedRays << " of the " << full
-            << " sampled rays (counting them all would exceed its time budget).\n";
+      if (scenes == 0) continue;
+      out << "| " << toString(set) << (set == RaySet::Secondary ? " (headline)" : "")
+          << (set == RaySet::Frozen ? " (`frozen`)" : "") << " | " << cells[0] << " | " << cells[1] << " | "
+          << cells[2] << " | " << scenes << " |\n";
     }
   }
   if (!report.notes.empty()) {
     out << "\nNotes:\n";
     for (const std::string& n : report.notes) out << "- " << n << "\n";
   }
-  out << "\n`frozen`: build and memory per tree (" << report.options.frozenTimes
-      << " trees); its row traces the frozen set. Embree exposes no tree: SAH and counters n/a.\n";
+  out << "\n`frozen` and `embree-static`: build and memory per structure (" << report.options.frozenTimes
+      << " frozen times); they trace the frozen set only. `embree` runs with Embree's default flags,"
+         " `embree-robust` with RTC_SCENE_FLAG_ROBUST. Embree exposes no tree: SAH and counters n/a.\n";
   return out.str();
 }
+
+namespace {
+
+std::string jsonSet(const SetResult& s) {
+  std::ostringstream o;
+  o << "{\"traced\": " << (s.traced ? "true" : "false") << ", \"rays\": " << s.rays
+    << ", \"timed_rays\": " << s.timedRays << ", \"mrays_st\": " << jsonNum(s.mraysSt)
+    << ", \"mrays_mt\": " << jsonNum(s.mraysMt) << ", \"mismatches_brute\": " << s.mismatchesBrute
+    << ", \"brute_checked\": " << s.bruteChecked << ", \"mismatches_embree_robust\": " << jsonOpt(s.mismatchesEmbree)
+    << "}";
+  return o.str();
+}
+
+void jsonResult(std::ostringstream& o, const Result& r) {
+  o << "{\"scene\": " << jsonString(r.scene) << ", \"accel\": " << jsonString(r.accel)
+    << ", \"frozen\": " << (r.frozen ? "true" : "false") << ", \"peer\": " << (r.peer ? "true" : "false")
+    << ", \"primitives\": " << r.primitives << ", \"build_s\": " << jsonNum(r.buildS)
+    << ", \"build_mprims\": " << jsonNum(r.buildMprims) << ", \"builds\": " << r.builds << ", \"bytes\": " << r.bytes
+    << ", \"peak_build_bytes\": " << r.peakBuildBytes << ", \"sah\": " << jsonOpt(r.sah)
+    << ", \"steps_mean\": " << jsonOpt(r.stepsMean) << ", \"steps_max\": " << jsonOpt(r.stepsMax)
+    << ", \"box_tests_mean\": " << jsonOpt(r.boxTestsMean) << ", \"isects_mean\": " << jsonOpt(r.isectsMean)
+    << ", \"isects_max\": " << jsonOpt(r.isectsMax) << ", \"counted_rays\": " << r.countedRays
+    << ", \"mismatches\": " << r.mismatches() << ", \"sets\": {";
+  for (RaySet s : kAllRaySets)
+    o << (s == RaySet::Primary ? "" : ", ") << jsonString(std::string(toString(s))) << ": " << jsonSet(r.set(s));
+  o << "}}";
+}
+
+}  // namespace
 
 std::string toJson(const Report& report) {
   std::ostringstream o;
@@ -127,137 +202,31 @@ std::string toJson(const Report& report) {
   o << "  \"options\": {\"size\": " << jsonNum(report.options.size) << ", \"width\": " << report.options.width
     << ", \"height\": " << report.options.height << ", \"frozen_times\": " << report.options.frozenTimes
     << ", \"repeats\": " << report.options.repeats << ", \"seed\": " << report.options.seed << "},\n";
-  o << "  \"results\": [";
-  for (size_t i = 0; i < report.results.size(); ++i) {
-    const Result& r = report.results[i];
-    o << (i ? ",\n" : "\n") << "    {\"scene\": " << jsonString(r.scene) << ", \"accel\": " << jsonString(r.accel)
-      << ", \"primitives\": " << r.primitives << ", \"build_s\": " << jsonNum(r.buildS)
-      << ", \"build_mprims\": " << jsonNum(r.buildMprims) << ", \"builds\": " << r.builds
-      << ", \"bytes\": " << r.bytes << ", \"peak_build_bytes\": " << r.peakBuildBytes
-      << ", \"sah\": " << jsonOpt(r.sah) << ", \"steps_mean\": " << jsonOpt(r.stepsMean)
-      << ", \"steps_max\": " << jsonOpt(r.stepsMax) << ", \"box_tests_mean\": " << jsonOpt(r.boxTestsMean)
-      << ", \"isects_mean\": " << jsonOpt(r.isectsMean) << ", \"isects_max\": " << jsonOpt(r.isectsMax)
-      << ", \"rays\": " << r.rays << ", \"timed_rays\": " << r.timedRays << ", \"counted_rays\": " << r.countedRays << ", \"mrays_st\": " << jsonNum(r.mraysSt)
-      << ", \"mrays_mt\": " << jsonNum(r.mraysMt) << ", \"mismatches\": " << r.mismatches
-      << ", \"mismatches_brute\": " << r.mismatchesBrute << ", \"brute_checked\": " << r.bruteChecked
-      << ", \"mismatches_embree\": " << jsonOpt(r.mismatchesEmbree) << ", \"frozen_set\": {\"rays\": "
-      << r.frozenSet.rays << ", \"timed_rays\": " << r.frozenSet.timedRays
-      << ", \"mrays_mt\": " << jsonNum(r.frozenSet.mraysMt)
-      << ", \"steps_mean\": " << jsonOpt(r.frozenSet.stepsMean)
-      << ", \"isects_mean\": " << jsonOpt(r.frozenSet.isectsMean)
-      << ", \"mismatches\": " << r.frozenSet.mismatches << "}}";
+  o << "  \"scenes\": [";
+  for (size_t i = 0; i < report.scenes.size(); ++i) {
+    const SceneInfo& s = report.scenes[i];
+    o << (i ? ",\n" : "\n") << "    {\"scene\": " << jsonString(s.name) << ", \"primitives\": " << s.primitives
+      << ", \"bounces\": " << s.bounces << ", \"inward\": " << s.inward << ", \"sets\": {";
+    for (RaySet set : kAllRaySets)
+      o << (set == RaySet::Primary ? "" : ", ") << jsonString(std::string(toString(set))) << ": {\"rays\": "
+        << s.sets[size_t(set)].rays << ", \"hit_rate\": " << jsonNum(s.sets[size_t(set)].hitRate) << "}";
+    o << "}}";
   }
-  o << "\n  ],\n  \"notes\": [";
+  o << "\n  ],\n  \"results\": [";
+  for (size_t i = 0; i < report.results.size(); ++i) {
+    o << (i ? ",\n    " : "\n    ");
+    jsonResult(o, report.results[i]);
+  }
+  o << "\n  ],\n  \"geomeans\": [";
+  const std::vector<Geomean> gms = geomeans(report);
+  for (size_t i = 0; i < gms.size(); ++i)
+    o << (i ? ", " : "") << "{\"set\": " << jsonString(std::string(toString(gms[i].set)))
+      << ", \"peer\": " << jsonString(gms[i].peer) << ", \"value\": " << jsonNum(gms[i].value)
+      << ", \"scenes\": " << gms[i].scenes << "}";
+  o << "],\n  \"notes\": [";
   for (size_t i = 0; i < report.notes.size(); ++i) o << (i ? ", " : "") << jsonString(report.notes[i]);
   o << "]\n}\n";
   return o.str();
-}
-
-namespace {
-
-std::string escapeXml(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
-  }
-  return out;
-}
-
-// A horizontal bar chart as inline SVG.
-std::string barChart(const std::string& title, const std::vector<std::pair<std::string, double>>& bars,
-                     const std::string& unit) {
-  const int rowH = 22, labelW = 110, chartW = 320, top = 24;
-  double maxV = 0;
-  for (const auto& b : bars) maxV = std::max(maxV, b.second);
-  std::ostringstream s;
-  const int h = top + rowH * int(bars.size()) + 6;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << labelW + chartW + 90 << "' height='" << h << "'>";
-  s << "<text x='4' y='16' font-size='13' font-weight='bold'>" << escapeXml(title) << "</text>";
-  for (size_t i = 0; i < bars.size(); ++i) {
-    const int y = top + rowH * int(i);
-    const double w = maxV > 0 ? bars[i].second / maxV * chartW : 0;
-    const char* color = bars[i].first == "embree" ? "#d08030" : (bars[i].first == "frozen" ? "#888" : "#3a78b8");
-    s << "<text x='" << labelW - 6 << "' y='" << y + 15 << "' font-size='12' text-anchor='end'>"
-      << escapeXml(bars[i].first) << "</text>";
-    s << "<rect x='" << labelW << "' y='" << y + 3 << "' width='" << w << "' height='" << rowH - 6 << "' fill='"
-      << color << "'/>";
-    s << "<text x='" << labelW + w + 4 << "' y='" << y + 15 << "' font-size='11'>" << fmt(bars[i].second) << " "
-      << unit << "</text>";
-  }
-  s << "</svg>";
-  return s.str();
-}
-
-}  // namespace
-
-std::string toHtml(const Report& report) {
-  std::ostringstream o;
-  o << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>mbrt bench</title>"
-       "<style>body{font-family:sans-serif;margin:20px} .row{display:flex;flex-wrap:wrap;gap:16px}</style>"
-       "</head><body><h1>mbrt bench</h1><p>"
-    << escapeXml(report.cpu) << ", " << report.threads << " threads, commit " << escapeXml(report.commit)
-    << "</p>";
-  for (const std::string& scene : sceneOrder(report)) {
-    std::vector<std::pair<std::string, double>> mem, speed, build;
-    for (const Result& r : report.results) {
-      if (r.scene != scene) continue;
-      mem.push_back({r.accel, double(r.bytes) / 1e6});
-      speed.push_back({r.accel, r.mraysMt});
-      build.push_back({r.accel, r.buildS});
-    }
-    o << "<h2>" << escapeXml(scene) << "</h2><div class='row'>" << barChart("memory", mem, "MB")
-      << barChart("rays/s, all threads", speed, "Mrays/s") << barChart("build time", build, "s") << "</div>";
-  }
-  o << "<pre>" << escapeXml(toMarkdown(report)) << "</pre></body></html>\n";
-  return o.str();
-}
-
-}  // namespace mbrt::bench
-
-namespace mbrt::bench {
-
-std::string toRatioSvg(const Report& report) {
-  // Per scene, one bar per structure: rays/s on all threads divided by the
-  // reference's (Embree when it ran on the scene, else bvh-interp).
-  const double clip = 1.5;
-  const int labelW = 110, chartW = 540, barH = 12, gap = 2, sceneGap = 14, top = 40;
-  std::ostringstream body;
-  int y = top;
-  std::string refName = "embree";
-  for (const std::string& scene : sceneOrder(report)) {
-    const Result* ref = find(report, scene, "embree");
-    if (!ref) {
-      ref = find(report, scene, "bvh-interp");
-      refName = "bvh-interp";
-    }
-    if (!ref || !(ref->mraysMt > 0)) continue;
-    const int first = y;
-    for (const Result& r : report.results) {
-      if (r.scene != scene || &r == ref) continue;
-      const double ratio = r.mraysMt / ref->mraysMt;
-      const double w = std::min(ratio, clip) / clip * chartW;
-      const char* color = r.accel == "frozen" ? "#888" : ratio >= 1.0 ? "#3a8a4a" : "#3a78b8";
-      body << "<rect x='" << labelW << "' y='" << y << "' width='" << fmt(w, 4) << "' height='" << barH << "' fill='"
-           << color << "'/><text x='" << fmt(labelW + w + 4, 4) << "' y='" << y + barH - 2 << "' font-size='10'>"
-           << escapeXml(r.accel) << " " << fmt(ratio) << "</text>";
-      y += barH + gap;
-    }
-    body << "<text x='4' y='" << (first + y) / 2 + 4 << "' font-size='13' font-weight='bold'>" << escapeXml(scene)
-         << "</text>";
-    y += sceneGap;
-  }
-  const double oneX = labelW + chartW / clip;
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << labelW + chartW + 120 << "' height='" << y
-    << "' style='background:#fff'><text x='4' y='16' font-size='14' font-weight='bold'>Rays/s on " << report.threads
-    << " threads relative to " << (refName == "embree" ? "Embree" : refName) << " (bars clipped at " << fmt(clip)
-    << ")</text><line x1='" << fmt(oneX, 5) << "' y1='" << top - 10 << "' x2='" << fmt(oneX, 5) << "' y2='" << y
-    << "' stroke='#000' stroke-dasharray='4,3'/><text x='" << fmt(oneX + 4, 5) << "' y='" << top - 12
-    << "' font-size='11'>" << (refName == "embree" ? "Embree" : refName) << " = 1</text>" << body.str() << "</svg>\n";
-  return s.str();
 }
 
 }  // namespace mbrt::bench
