@@ -195,7 +195,10 @@ void checkPackRules() {
   const float ys[] = {2.0f, 0.0f, 1.0f, nan, 5.0f, 2.0f, -0.0f, -3.0f};
   // Through volatile: the compiler folds constant conversions its own way.
   volatile float vx[W], vy[W];
-  for (int i = 0; i < W; ++i) vx[i] = xs[i % 8], vy[i] = ys[(i + W / 2) % 8];
+  for (int i = 0; i < W; ++i) {
+    vx[i] = xs[i % 8];
+    vy[i] = ys[(i + W / 2) % 8];
+  }
   alignas(32) float x[W], y[W], got[W];
   for (int i = 0; i < W; ++i) x[i] = vx[i], y[i] = vy[i];
   const P a = P::load(x), b = P::load(y);

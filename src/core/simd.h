@@ -225,15 +225,17 @@ struct Pack<8> {
 };
 #endif
 
-// Bit i set when byte p[i] equals `value`, for the 8 bytes at p (all of
-// them readable; a caller with fewer lanes masks the bits it has).
-inline uint32_t byteEqualMask8(const uint8_t* p, uint8_t value) {
+// Bit i set, for i < N <= 8, when byte p[i] differs from `value`. Reads
+// the 8 bytes at p: all of them must be readable.
+template <int N>
+inline uint32_t bytesDifferMask(const uint8_t* p, uint8_t value) {
+  static_assert(N <= 8);
 #if MBRT_SIMD_LEVEL >= 1
   const __m128i bytes = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
-  return uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(bytes, _mm_set1_epi8(char(value))))) & 0xFFu;
+  return ~uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(bytes, _mm_set1_epi8(char(value))))) & ((1u << N) - 1u);
 #else
   uint32_t m = 0;
-  for (int i = 0; i < 8; ++i) m |= uint32_t(p[i] == value) << i;
+  for (int i = 0; i < N; ++i) m |= uint32_t(p[i] != value) << i;
   return m;
 #endif
 }

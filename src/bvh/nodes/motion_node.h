@@ -49,7 +49,7 @@ struct alignas(32) WideNode<N, true> {
   // lanes, which stand in for a present lane's (motion_node.cpp).
   uint32_t occupiedLanes() const {
     static_assert(offsetof(WideNode, count) + 8 <= sizeof(WideNode));
-    return ~byteEqualMask8(count, kEmptyLane) & ((1u << N) - 1u);
+    return bytesDifferMask<N>(count, kEmptyLane);
   }
 
   // Sets the bounds of every lane at once (the grid depends on all of them);
