@@ -51,7 +51,7 @@ struct KdLeafBlocks {
   // Starts loading a leaf's blocks (their interval lines) before the test.
   void prefetch(const KdNode& leaf) const {
     for (uint32_t k = leaf.first(), end = leaf.first() + std::min(leaf.count(), 8u); k < end; ++k)
-      _mm_prefetch(reinterpret_cast<const char*>(&blocks[k]), _MM_HINT_T0);
+      detail::prefetch(&blocks[k]);
   }
 };
 

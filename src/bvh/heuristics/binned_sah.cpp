@@ -3,7 +3,6 @@
 #include "core/simd.h"
 
 #include <algorithm>
-#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -14,52 +13,45 @@ namespace mbrt::detail {
 
 namespace {
 
-// A bin's linear bounds. Binning extends a bin per axis for every
-// reference, the hottest loop of the build: with SSE the four corners are
-// one min/max each (the fourth lane is ignored). min/max are exact, so the
-// result equals LBounds::extend.
-#ifdef MBRT_BVH_SSE
-// x, y, z of `f` and a zero: no read past f[2].
-inline __m128 load3(const float* f) {
-  double x_y;  // the two floats x, y as one 8-byte load (f need not be 8-byte aligned)
-  std::memcpy(&x_y, f, sizeof x_y);
-  const __m128 xy = _mm_castpd_ps(_mm_set_sd(x_y));
-  return _mm_movelh_ps(xy, _mm_load_ss(f + 2));
-}
+using P4 = Pack<4>;
 
+// A bin's linear bounds. Binning extends a bin per axis for every
+// reference, the hottest loop of the build: the four corners are one 4-lane
+// min/max each (the fourth lane is ignored). min/max are exact, so the
+// corners are those of LBounds::extend.
 struct BinBounds {
-  __m128 lo0 = _mm_set1_ps(kInf), hi0 = _mm_set1_ps(-kInf), lo1 = _mm_set1_ps(kInf), hi1 = _mm_set1_ps(-kInf);
+  P4 lo0 = P4::set1(kInf), hi0 = P4::set1(-kInf), lo1 = P4::set1(kInf), hi1 = P4::set1(-kInf);
 
   void extend(const LBounds& b) {
     static_assert(sizeof(LBounds) == 12 * sizeof(float));
     const float* f = &b.b0.lower.x;  // b0.lower, b0.upper, b1.lower, b1.upper
-    lo0 = _mm_min_ps(lo0, _mm_loadu_ps(f));
-    hi0 = _mm_max_ps(hi0, _mm_loadu_ps(f + 3));
-    lo1 = _mm_min_ps(lo1, _mm_loadu_ps(f + 6));
-    hi1 = _mm_max_ps(hi1, load3(f + 9));  // the last corner: no read past the bounds
+    lo0 = vmin(lo0, P4::loadu(f));
+    hi0 = vmax(hi0, P4::loadu(f + 3));
+    lo1 = vmin(lo1, P4::loadu(f + 6));
+    hi1 = vmax(hi1, P4::load3(f + 9));  // the last corner: no read past the bounds
   }
   void extend(const BinBounds& o) {
-    lo0 = _mm_min_ps(lo0, o.lo0);
-    hi0 = _mm_max_ps(hi0, o.hi0);
-    lo1 = _mm_min_ps(lo1, o.lo1);
-    hi1 = _mm_max_ps(hi1, o.hi1);
+    lo0 = vmin(lo0, o.lo0);
+    hi0 = vmax(hi0, o.hi0);
+    lo1 = vmin(lo1, o.lo1);
+    hi1 = vmax(hi1, o.hi1);
   }
   LBounds get() const { return {box(lo0, hi0), box(lo1, hi1)}; }
   // mbsahArea(get()), by the same operations.
   float mbsahArea() const {
-    const __m128 half = _mm_set1_ps(0.5f);
-    const __m128 lo = _mm_add_ps(_mm_mul_ps(lo0, half), _mm_mul_ps(lo1, half));
-    const __m128 hi = _mm_add_ps(_mm_mul_ps(hi0, half), _mm_mul_ps(hi1, half));
-    if (_mm_movemask_ps(_mm_cmpgt_ps(lo, hi)) & 0x7) return 0.0f;  // Box3f::empty
+    const P4 half = P4::set1(0.5f);
+    const P4 lo = lo0 * half + lo1 * half;
+    const P4 hi = hi0 * half + hi1 * half;
+    if (lessMask(hi, lo) & 0x7) return 0.0f;  // Box3f::empty
     alignas(16) float d[4];
-    _mm_store_ps(d, _mm_sub_ps(hi, lo));
+    (hi - lo).store(d);
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
   }
 
-  static Box3f box(__m128 lo, __m128 hi) {
+  static Box3f box(P4 lo, P4 hi) {
     alignas(16) float l[4], h[4];
-    _mm_store_ps(l, lo);
-    _mm_store_ps(h, hi);
+    lo.store(l);
+    hi.store(h);
     return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
   }
 };
@@ -67,45 +59,23 @@ struct BinBounds {
 // BuildRef::centroid() in three lanes, by the same operations: the box at
 // the centre time (lerp with t = 0.5, whose 1 - t is 0.5 too), then its
 // centre. Bit-identical to the scalar key.
-using Centroid = __m128;
+using Centroid = P4;
 inline Centroid centroidOf(const BuildRef& r) {
   const float* f = &r.bounds.b0.lower.x;
-  const __m128 half = _mm_set1_ps(0.5f);
-  const __m128 lo = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(f), half), _mm_mul_ps(_mm_loadu_ps(f + 6), half));
-  const __m128 hi = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(f + 3), half), _mm_mul_ps(load3(f + 9), half));
-  return _mm_mul_ps(_mm_add_ps(lo, hi), half);
+  const P4 half = P4::set1(0.5f);
+  const P4 lo = P4::loadu(f) * half + P4::loadu(f + 6) * half;
+  const P4 hi = P4::loadu(f + 3) * half + P4::load3(f + 9) * half;
+  return (lo + hi) * half;
 }
-inline float axisOf(Centroid c, int axis) {
-  alignas(16) float v[4];
-  _mm_store_ps(v, c);
-  return v[axis];
-}
+inline float axisOf(Centroid c, int axis) { return c.lane(axis); }
 struct CentroidBounds {
-  __m128 lo = _mm_set1_ps(kInf), hi = _mm_set1_ps(-kInf);
+  P4 lo = P4::set1(kInf), hi = P4::set1(-kInf);
   void extend(Centroid c) {
-    lo = _mm_min_ps(lo, c);
-    hi = _mm_max_ps(hi, c);
+    lo = vmin(lo, c);
+    hi = vmax(hi, c);
   }
   Box3f get() const { return BinBounds::box(lo, hi); }
 };
-#else
-struct BinBounds {
-  LBounds b;
-  void extend(const LBounds& o) { b.extend(o); }
-  void extend(const BinBounds& o) { b.extend(o.b); }
-  LBounds get() const { return b; }
-  float mbsahArea() const { return detail::mbsahArea(b); }
-};
-
-using Centroid = Vec3f;
-inline Centroid centroidOf(const BuildRef& r) { return r.centroid(); }
-inline float axisOf(Centroid c, int axis) { return c[axis]; }
-struct CentroidBounds {
-  Box3f b;
-  void extend(Centroid c) { b.extend(c); }
-  Box3f get() const { return b; }
-};
-#endif
 
 struct Bin {
   BinBounds bounds;
@@ -193,31 +163,23 @@ class BinArray {
   Bin* data_;
 };
 
-// The bins of a reference on the three axes (ObjectSplit::binAt of each).
+// The bins of a reference on the three axes (ObjectSplit::binAt of each,
+// by the same operations: truncation, then the clamp).
 class BinMap {
  public:
-  explicit BinMap(const ObjectSplit (&axes)[3]) : axes_(axes) {
-#ifdef MBRT_BVH_SSE
-    origin_ = _mm_setr_ps(axes[0].origin, axes[1].origin, axes[2].origin, 0.0f);
-    scale_ = _mm_setr_ps(axes[0].scale, axes[1].scale, axes[2].scale, 0.0f);
-#endif
-  }
+  explicit BinMap(const ObjectSplit (&axes)[3])
+      : axes_(axes),
+        origin_(P4::of(axes[0].origin, axes[1].origin, axes[2].origin, 0.0f)),
+        scale_(P4::of(axes[0].scale, axes[1].scale, axes[2].scale, 0.0f)) {}
   void binsOf(Centroid c, int (&bin)[3]) const {
-#ifdef MBRT_BVH_SSE
     alignas(16) int32_t unclamped[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(unclamped),
-                    _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(c, origin_), scale_)));
+    ((c - origin_) * scale_).storeTruncated(unclamped);
     for (int a = 0; a < 3; ++a) bin[a] = std::clamp(unclamped[a], 0, std::max(axes_[a].numBins - 1, 0));
-#else
-    for (int a = 0; a < 3; ++a) bin[a] = axes_[a].binAt(c[a]);
-#endif
   }
 
  private:
   const ObjectSplit (&axes_)[3];
-#ifdef MBRT_BVH_SSE
-  __m128 origin_, scale_;
-#endif
+  P4 origin_, scale_;
 };
 
 // Fills the bins of the axes that have a transform (axes[a].axis >= 0).

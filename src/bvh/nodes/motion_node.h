@@ -21,7 +21,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 
 namespace mbrt::detail {
 
@@ -49,16 +48,8 @@ struct alignas(32) WideNode<N, true> {
   // Bit per lane that is not empty: the node test ignores the levels of empty
   // lanes, which stand in for a present lane's (motion_node.cpp).
   uint32_t occupiedLanes() const {
-#ifdef MBRT_BVH_SSE
     static_assert(offsetof(WideNode, count) + 8 <= sizeof(WideNode));
-    const __m128i c = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(count));
-    const uint32_t empty = uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(c, _mm_set1_epi8(char(kEmptyLane)))));
-    return ~empty & ((1u << N) - 1u);
-#else
-    uint32_t m = 0;
-    for (int l = 0; l < N; ++l) m |= uint32_t(count[l] != kEmptyLane) << l;
-    return m;
-#endif
+    return bytesDifferMask<N>(count, kEmptyLane);
   }
 
   // Sets the bounds of every lane at once (the grid depends on all of them);
@@ -85,47 +76,27 @@ struct alignas(32) WideNode<N, true> {
   // ends within some 2^67) and |rdir| < 2^56, every term is below 2^125.
   void distanceTerms(float t, float omt, const float (&org)[4], const float (&rdir)[4], bool tame, float (&A)[4],
                      float (&B0)[4], float (&B1)[4]) const {
-#ifdef MBRT_BVH_SSE
+    using P = Pack<4>;
     static_assert(offsetof(WideNode, step1) + 4 * sizeof(float) <= sizeof(WideNode));
-    const __m128 o = _mm_loadu_ps(origin), d = _mm_loadu_ps(drift);
+    const P o = P::loadu(origin), d = P::loadu(drift), s0 = P::loadu(step0);
     // Lane 3 of each load is the next field's first float; step1's would be
     // level bytes (perhaps a denormal, slow to multiply), so it is cleared.
-    const __m128 s0 = _mm_loadu_ps(step0);
-    const __m128 s1 = _mm_and_ps(_mm_loadu_ps(step1), _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)));
-    const __m128 tt = _mm_set1_ps(t), r = _mm_load_ps(rdir);
-#if defined(__FMA__)
-    const __m128 at = _mm_fmadd_ps(tt, d, o);
-#else
-    const __m128 at = _mm_add_ps(_mm_mul_ps(tt, d), o);
-#endif
-    __m128 a = _mm_mul_ps(_mm_sub_ps(at, _mm_load_ps(org)), r);
-    __m128 b0 = _mm_mul_ps(_mm_mul_ps(s0, _mm_set1_ps(omt)), r);
-    __m128 b1 = _mm_mul_ps(_mm_mul_ps(s1, tt), r);
+    const P s1 = clearLastLane(P::loadu(step1));
+    const P tt = P::set1(t), r = P::load(rdir);
+    P a = (fmadd(tt, d, o) - P::load(org)) * r;  // gridAt's origin at t, then the distance
+    P b0 = (s0 * P::set1(omt)) * r;
+    P b1 = (s1 * tt) * r;
     if (!tame) {
-      const __m128 inf = _mm_set1_ps(kInf), sign = _mm_set1_ps(-0.0f);
-      const __m128 finiteR = _mm_cmplt_ps(_mm_andnot_ps(sign, r), inf);
-      auto nanIfOverflowed = [&](__m128 x) {
-        return _mm_or_ps(x, _mm_and_ps(finiteR, _mm_cmpeq_ps(_mm_andnot_ps(sign, x), inf)));
-      };
+      const P inf = P::set1(kInf);
+      const P finiteR = lessLanes(abs(r), inf);
+      const auto nanIfOverflowed = [&](P x) { return x | (finiteR & equalLanes(abs(x), inf)); };  // all ones: NaN
       a = nanIfOverflowed(a);
       b0 = nanIfOverflowed(b0);
       b1 = nanIfOverflowed(b1);
     }
-    _mm_store_ps(A, a);
-    _mm_store_ps(B0, b0);
-    _mm_store_ps(B1, b1);
-#else
-    float at[3], w0[3], w1[3];
-    gridAt(t, omt, at, w0, w1);
-    const auto nanIfOverflowed = [&](float x, float r) {
-      return !tame && std::isinf(x) && !std::isinf(r) ? std::numeric_limits<float>::quiet_NaN() : x;
-    };
-    for (int a = 0; a < 3; ++a) {
-      A[a] = nanIfOverflowed((at[a] - org[a]) * rdir[a], rdir[a]);
-      B0[a] = nanIfOverflowed(w0[a] * rdir[a], rdir[a]);
-      B1[a] = nanIfOverflowed(w1[a] * rdir[a], rdir[a]);
-    }
-#endif
+    a.store(A);
+    b0.store(B0);
+    b1.store(B1);
   }
   // The decoded box at tree time t, in float: the planes the node test's
   // distances (distanceTerms) measure, evaluated as positions.
