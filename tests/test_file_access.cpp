@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "error_of.h"
+#include "temp_dir.h"
 #include "mbrt/io/file_access.h"
 #include "mbrt/image.h"
 #include "mbrt/io.h"
@@ -22,42 +23,10 @@
 
 using namespace mbrt;
 using mbrt::test::errorOf;
+using mbrt::test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / ("mbrt_test_" + std::string(info->test_suite_name()) + "_" + info->name() +
-                                         "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(file(name), std::ios::binary) << text;
-    return file(name);
-  }
-  std::string fifo(const std::string& name) const {
-    EXPECT_EQ(::mkfifo(file(name).c_str(), 0600), 0);
-    return file(name);
-  }
-  // Files whose names start with '.' (temporary outputs).
-  size_t hiddenFiles() const {
-    size_t n = 0;
-    for (const auto& e : fs::directory_iterator(path_)) n += e.path().filename().string()[0] == '.' ? 1 : 0;
-    return n;
-  }
-
- private:
-  fs::path path_;
-};
 
 std::string contents(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
