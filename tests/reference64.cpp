@@ -146,6 +146,7 @@ struct Box {
     hi = {std::max(hi.x, v.x + r), std::max(hi.y, v.y + r), std::max(hi.z, v.z + r)};
   }
   void grow(const Box& b) {
+    if (b.empty()) return;
     grow(b.lo);
     grow(b.hi);
   }
