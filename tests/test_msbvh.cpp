@@ -400,7 +400,11 @@ TEST(Msbvh, RefitAgreesWithRebuildOverFrames) {
     const double refitSah = accel->stats().sahCost, rebuildSah = rebuilt->stats().sahCost;
     curve += " frame " + std::to_string(f) + ": refit " + std::to_string(refitSah) + " rebuild " +
              std::to_string(rebuildSah) + ";";
-    EXPECT_GE(refitSah, rebuildSah * 0.8) << "frame " << f;
+    // A refit keeps the tree's topology: never (beyond noise) better than a
+    // rebuild, close to it after one frame of this smooth motion, and
+    // degrading gradually (about 2x after seven frames), not blowing up.
+    EXPECT_GE(refitSah, rebuildSah * 0.95) << "frame " << f;
+    EXPECT_LE(refitSah, rebuildSah * (f == 1 ? 1.15 : 3.0)) << "frame " << f;
     expectOracle(scene, *accel, randomRays(rng, 800, {0.0f, 1.0f}), "refit frame " + std::to_string(f));
   }
   std::printf("MSBVH refit vs rebuild SAH:%s\n", curve.c_str());

@@ -191,6 +191,7 @@ TEST(Scenes, BadArgumentsThrow) {
   EXPECT_THROW(makeProceduralScene("nope", 1.0), Error);
   try {
     makeProceduralScene("teapot", 1.0);
+    ADD_FAILURE() << "an unknown scene name was accepted";
   } catch (const Error& e) {
     const std::string msg = e.what();
     for (const std::string& name : proceduralSceneNames()) EXPECT_NE(msg.find(name), std::string::npos) << msg;
