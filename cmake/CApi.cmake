@@ -84,5 +84,8 @@ if(MBRT_BUILD_TESTS)
   add_test(NAME capi.plain_cc
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/plain_cc.sh ${PROJECT_SOURCE_DIR}
                    $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_plain_cc)
-  set_tests_properties(capi.plain_cc PROPERTIES DEPENDS capi.example)
+  # The example of docs/c-api.md compiles and runs.
+  add_test(NAME capi.doc_example
+           COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/doc_example.sh ${PROJECT_SOURCE_DIR}
+                   $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_doc_example)
 endif()
