@@ -510,6 +510,7 @@ static void testAgreement(void) {
   RandomScene rs = makeRandomScene(device);
   MBRTAccel brute = mbrtNewAccel(rs.top, "brute", NULL);
   uint32_t k, n = mbrtGetKindCount();
+  size_t segmentHits = 0, instanceHits = 0; /* over all kinds' rays */
   CHECK(brute != NULL);
   for (k = 0; k < n && brute; ++k) {
     const char* kind = mbrtGetKindName(k);
@@ -522,7 +523,11 @@ static void testAgreement(void) {
     options.frozenTime = 0.5f;
     /* frozen is right at its build time only. */
     randomRays(rays, kRays, isFrozen ? options.frozenTime : -1.0f);
-    for (i = 0; i < kRays; ++i) mbrtIntersect1(brute, &rays[i], &ref[i]);
+    for (i = 0; i < kRays; ++i) {
+      mbrtIntersect1(brute, &rays[i], &ref[i]);
+      segmentHits += ref[i].geomID == 1 && ref[i].instID == MBRT_INVALID_ID;
+      instanceHits += ref[i].instID != MBRT_INVALID_ID;
+    }
     accel = mbrtNewAccel(rs.top, kind, &options);
     if (!accel) {
       const char* message;
@@ -555,6 +560,9 @@ static void testAgreement(void) {
       CHECK(wrong == 0);
     mbrtReleaseAccel(accel);
   }
+  /* The rays reach every kind of geometry: segments and instances too. */
+  printf("brute: %zu segment hits, %zu instance hits\n", segmentHits, instanceHits);
+  CHECK(segmentHits > 100 && instanceHits > 100);
   CHECK_ERROR(device, MBRT_ERROR_NONE, "");
   mbrtReleaseAccel(brute);
   mbrtReleaseScene(rs.top);
