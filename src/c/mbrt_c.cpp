@@ -100,41 +100,46 @@ void record(MBRTDeviceT* device, MBRTError code, const std::string& message) {
 }
 
 // Runs body(); any exception becomes an error on `device` and `failure` is
-// returned. The callback runs outside the catch so that an exception it
-// throws could not replace the first one (it must not throw: it is C).
+// returned. The error is recorded (and the callback called) after the
+// handlers, outside any catch block; whatever is thrown while mapping or
+// recording (only bad_alloc can be) is dropped rather than let through.
 template <class R, class F>
 R guarded(MBRTDeviceT* device, R failure, const char* call, F&& body) {
   MBRTError code = MBRT_ERROR_NONE;
   std::string message;
   try {
-    return body();
-  } catch (const CError& e) {
-    code = e.code;
-    message = e.message;
-  } catch (const std::bad_alloc&) {
-    code = MBRT_ERROR_OUT_OF_MEMORY;
-    message = "out of memory";
-  } catch (const mbrt::Error& e) {
-    message = e.what();
-    code = message.find("memory budget") != std::string::npos ? MBRT_ERROR_OUT_OF_MEMORY
-                                                               : MBRT_ERROR_INVALID_ARGUMENT;
-  } catch (const std::invalid_argument& e) {
-    code = MBRT_ERROR_INVALID_ARGUMENT;
-    message = e.what();
-  } catch (const std::out_of_range& e) {
-    code = MBRT_ERROR_INVALID_ARGUMENT;
-    message = e.what();
-  } catch (const std::exception& e) {
-    code = MBRT_ERROR_UNKNOWN;
-    message = e.what();
+    try {
+      return body();
+    } catch (const CError& e) {
+      code = e.code;
+      message = e.message;
+    } catch (const std::bad_alloc&) {
+      code = MBRT_ERROR_OUT_OF_MEMORY;
+      message = "out of memory";
+    } catch (const mbrt::Error& e) {
+      // The build budget's error (core/build_budget.h) names the budget.
+      message = e.what();
+      code = message.find("memory budget") != std::string::npos ? MBRT_ERROR_OUT_OF_MEMORY
+                                                                 : MBRT_ERROR_INVALID_ARGUMENT;
+    } catch (const std::invalid_argument& e) {
+      code = MBRT_ERROR_INVALID_ARGUMENT;
+      message = e.what();
+    } catch (const std::out_of_range& e) {
+      code = MBRT_ERROR_INVALID_ARGUMENT;
+      message = e.what();
+    } catch (const std::exception& e) {
+      code = MBRT_ERROR_UNKNOWN;
+      message = e.what();
+    } catch (...) {
+      code = MBRT_ERROR_UNKNOWN;
+      message = "unknown exception";
+    }
   } catch (...) {
-    code = MBRT_ERROR_UNKNOWN;
-    message = "unknown exception";
+    code = MBRT_ERROR_OUT_OF_MEMORY;  // copying a message failed
   }
   try {
     record(device, code, std::string(call) + ": " + message);
   } catch (...) {
-    // Recording itself ran out of memory: nothing more can be said.
   }
   return failure;
 }
@@ -201,6 +206,17 @@ mbrt::TimeRange timeRange(float time0, float time1) {
   require(std::isfinite(time0) && std::isfinite(time1) && 0.0f <= time0 && time0 <= time1 && time1 <= 1.0f,
           "time range must satisfy 0 <= time0 <= time1 <= 1");
   return {time0, time1};
+}
+
+// The names of the kinds this build can construct, as NUL-terminated
+// strings that live as long as the library (mbrtGetKindName hands them out).
+const std::vector<std::string>& kindNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (auto k : mbrt::availableAccelKinds()) out.emplace_back(mbrt::toString(k));
+    return out;
+  }();
+  return names;
 }
 
 mbrt::Ray toRay(const MBRTRay& r) {
@@ -270,13 +286,14 @@ void mbrtSetErrorCallback(MBRTDevice device, MBRTErrorCallback callback, void* u
 }
 
 MBRTError mbrtGetError(MBRTDevice device, const char** message) {
-  // Never throws: the strings are moved, not copied.
+  // Allocates nothing, so it cannot fail: the strings are moved.
+  if (device && device->tag != kDeviceTag) {
+    if (message) *message = "mbrtGetError: invalid device handle";
+    return MBRT_ERROR_INVALID_ARGUMENT;
+  }
   ErrorSlot taken;
   if (!device) {
     std::swap(taken, tNoDeviceError);
-  } else if (device->tag != kDeviceTag) {
-    taken.code = MBRT_ERROR_INVALID_ARGUMENT;
-    taken.message = "mbrtGetError: invalid device handle";
   } else {
     std::lock_guard<std::mutex> lock(device->mutex);
     std::swap(taken, device->error);
@@ -391,18 +408,16 @@ uint32_t mbrtGetGeometryCount(MBRTScene scene) {
 }
 
 uint32_t mbrtGetKindCount(void) {
-  return guarded<uint32_t>(nullptr, 0, "mbrtGetKindCount",
-                           [] { return uint32_t(mbrt::availableAccelKinds().size()); });
+  return guarded<uint32_t>(nullptr, 0, "mbrtGetKindCount", [] { return uint32_t(kindNames().size()); });
 }
 
 const char* mbrtGetKindName(uint32_t index) {
   return guarded<const char*>(nullptr, nullptr, "mbrtGetKindName", [&]() -> const char* {
-    auto kinds = mbrt::availableAccelKinds();
-    if (index >= kinds.size())
+    const auto& names = kindNames();
+    if (index >= names.size())
       fail(MBRT_ERROR_INVALID_ARGUMENT, "kind index " + std::to_string(index) + " out of range (" +
-                                            std::to_string(kinds.size()) + " kinds)");
-    // toString returns views of string literals: NUL-terminated and static.
-    return mbrt::toString(kinds[index]).data();
+                                            std::to_string(names.size()) + " kinds)");
+    return names[index].c_str();
   });
 }
 
@@ -428,7 +443,7 @@ MBRTAccel mbrtNewAccel(MBRTScene scene, const char* kind, const MBRTBuildOptions
     auto parsed = mbrt::parseAccelKind(kind);
     if (!parsed) {
       std::string names;
-      for (auto k : mbrt::availableAccelKinds()) names += (names.empty() ? "" : ", ") + std::string(mbrt::toString(k));
+      for (const auto& k : kindNames()) names += (names.empty() ? "" : ", ") + k;
       fail(MBRT_ERROR_INVALID_ARGUMENT, std::string("unknown kind \"") + kind + "\" (kinds: " + names + ")");
     }
     mbrt::BuildOptions o;
