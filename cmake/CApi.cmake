@@ -72,8 +72,8 @@ if(MBRT_BUILD_TESTS)
   target_link_libraries(mbrt_c_tests PRIVATE mbrt_c Threads::Threads m)
   # One CTest per case of tests/c/test_capi.c (its main runs the case named).
   foreach(case IN ITEMS version null_handles wrong_handles bad_arguments bad_kind error_callback
-                        release_in_use frozen_scene time_range_and_mask agreement batched threads stats
-                        memory_budget)
+                        release_in_use frozen_scene time_range_and_mask srt_instances filters agreement batched
+                        threads stats memory_budget)
     add_test(NAME capi.${case} COMMAND mbrt_c_tests ${case})
   endforeach()
 

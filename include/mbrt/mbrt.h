@@ -23,7 +23,7 @@
  * nothing is released. A scene instanced by another one stays alive (shared)
  * until every scene instancing it is released, even after its own handle is.
  * A scene traced by a live accel, directly or through instances, is frozen:
- * adding geometry or setting a mask is refused with
+ * adding geometry or setting a mask or filter is refused with
  * MBRT_ERROR_INVALID_OPERATION until those accels are released.
  *
  * Thread safety.
@@ -31,8 +31,10 @@
  *    and mbrtGetAccelStats may run from any number of threads at once, on
  *    the same accel or on different ones. The batched calls run in parallel
  *    themselves (TBB).
+ *  - Intersection filters run on the tracing threads, concurrently when
+ *    several threads trace: they must be thread-safe then.
  *  - Building (mbrtNewAccel), releasing any handle and changing a scene
- *    (adding geometry, setting masks) need exclusive access: no other call
+ *    (adding geometry, setting masks or filters) need exclusive access: no other call
  *    may use that scene, or an accel built on it, at the same time.
  *  - Errors and the error callback may be raised from any thread; the
  *    callback must be thread-safe when tracing runs on several threads.
@@ -116,6 +118,24 @@ typedef struct MBRTVertexBuffer {
   size_t count;
 } MBRTVertexBuffer;
 
+/* An instance key as scale, rotation and translation, composed as T*R*S;
+ * between keys, scale and translation are interpolated linearly and the
+ * rotation by slerp along the shorter arc. rotation: a quaternion
+ * (w, x, y, z), normalized by mbrt; a zero or non-finite one, a zero scale
+ * component or one that changes sign between keys is refused at the build. */
+typedef struct MBRTSRTKey {
+  float scale[3];
+  float rotation[4];
+  float translation[3];
+} MBRTSRTKey;
+
+/* An intersection filter: called for each candidate hit on the geometry,
+ * with the ray in the geometry's space (inside an instance: the instanced
+ * scene's space). Returning 0 rejects the candidate and traversal goes on
+ * (alpha testing, transparent shadows); nonzero accepts it. It runs on the
+ * tracing threads, concurrently when several threads trace. */
+typedef int (*MBRTFilterFunc)(void* userPtr, const MBRTRay* ray, const MBRTHit* candidate);
+
 /* Build options; mbrtDefaultBuildOptions fills the defaults. */
 typedef struct MBRTBuildOptions {
   int branching;         /* BVH node width: 2, 4 or 8 */
@@ -178,6 +198,12 @@ MBRT_API uint32_t mbrtNewSegments(MBRTScene scene, const uint32_t* indices, size
  * (x' = m[0]x + m[1]y + m[2]z + m[3], ...), interpolated element-wise. */
 MBRT_API uint32_t mbrtNewInstance(MBRTScene scene, MBRTScene child, const float* keys, uint32_t numKeys,
                                   float time0, float time1);
+/* Same, with SRT keys. */
+MBRT_API uint32_t mbrtNewInstanceSRT(MBRTScene scene, MBRTScene child, const MBRTSRTKey* keys, uint32_t numKeys,
+                                     float time0, float time1);
+/* Sets (NULL: removes) the intersection filter of a triangle or segment
+ * geometry; userPtr is passed to it. */
+MBRT_API void mbrtSetGeometryFilter(MBRTScene scene, uint32_t geomID, MBRTFilterFunc filter, void* userPtr);
 /* Only rays whose mask shares a bit with the geometry's mask hit it. */
 MBRT_API void mbrtSetGeometryMask(MBRTScene scene, uint32_t geomID, uint32_t mask);
 MBRT_API uint32_t mbrtGetGeometryCount(MBRTScene scene);

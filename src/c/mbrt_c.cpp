@@ -18,6 +18,7 @@
 #include "mbrt/accel.h"
 #include "mbrt/build_options.h"
 #include "mbrt/error.h"
+#include "mbrt/quaternion.h"
 #include "mbrt/scene.h"
 
 namespace {
@@ -202,6 +203,12 @@ void checkMutable(const MBRTSceneT& scene) {
                                            " live accel(s) (directly or through instances); release them first");
 }
 
+void checkGeometry(const MBRTSceneT& scene, uint32_t geomID) {
+  if (geomID >= scene.data->scene.numGeometries())
+    fail(MBRT_ERROR_INVALID_ARGUMENT, "geometry id " + std::to_string(geomID) + " out of range (the scene has " +
+                                          std::to_string(scene.data->scene.numGeometries()) + ")");
+}
+
 mbrt::TimeRange timeRange(float time0, float time1) {
   require(std::isfinite(time0) && std::isfinite(time1) && 0.0f <= time0 && time0 <= time1 && time1 <= 1.0f,
           "time range must satisfy 0 <= time0 <= time1 <= 1");
@@ -228,6 +235,17 @@ mbrt::Ray toRay(const MBRTRay& r) {
   ray.time = r.time;
   ray.mask = r.mask;
   return ray;
+}
+
+MBRTRay fromRay(const mbrt::Ray& r) {
+  MBRTRay out;
+  out.org[0] = r.org.x, out.org[1] = r.org.y, out.org[2] = r.org.z;
+  out.tnear = r.tnear;
+  out.dir[0] = r.dir.x, out.dir[1] = r.dir.y, out.dir[2] = r.dir.z;
+  out.tfar = r.tfar;
+  out.time = r.time;
+  out.mask = r.mask;
+  return out;
 }
 
 void toHit(const mbrt::Hit& h, MBRTHit& out) {
@@ -357,43 +375,99 @@ uint32_t mbrtNewSegments(MBRTScene scene, const uint32_t* indices, size_t numSeg
   });
 }
 
+}  // extern "C"
+
+namespace {
+
+// Checks what every instance needs and adds it: `add` adds the instance of
+// the child's scene to the C++ scene and returns its id.
+template <class Add>
+uint32_t addInstanceOf(MBRTScene scene, MBRTScene child, const void* keys, uint32_t numKeys, float time0,
+                       float time1, Add&& add) {
+  checkScene(scene);
+  require(child && child->tag == kSceneTag, "NULL or invalid child scene handle");
+  require(child->device == scene->device, "the child scene belongs to another device");
+  require(child != scene, "a scene cannot instance itself");
+  require(keys != nullptr, "keys is NULL");
+  require(numKeys >= 1, "numKeys must be at least 1");
+  mbrt::TimeRange range = timeRange(time0, time1);
+  // A cycle would keep the scenes alive forever (shared ownership) and
+  // could never be built: refused here rather than at the build.
+  if (reaches(*child->data, scene->data.get()))
+    fail(MBRT_ERROR_INVALID_ARGUMENT, "the child scene instances this scene (an instance cycle)");
+  checkMutable(*scene);
+  uint32_t id = add(std::shared_ptr<const mbrt::Scene>(child->data, &child->data->scene), range);
+  scene->data->children.push_back(child->data);
+  return id;
+}
+
+}  // namespace
+
+extern "C" {
+
 uint32_t mbrtNewInstance(MBRTScene scene, MBRTScene child, const float* keys, uint32_t numKeys, float time0,
                          float time1) {
   return guarded<uint32_t>(deviceOf(scene), MBRT_INVALID_ID, "mbrtNewInstance", [&] {
+    return addInstanceOf(scene, child, keys, numKeys, time0, time1, [&](auto childScene, mbrt::TimeRange range) {
+      std::vector<mbrt::Affine3f> transforms(numKeys);
+      for (uint32_t k = 0; k < numKeys; ++k) {
+        const float* m = keys + 12 * size_t(k);  // row-major 3x4: columns are the images of the axes
+        mbrt::Affine3f& a = transforms[k];
+        a.vx = {m[0], m[4], m[8]};
+        a.vy = {m[1], m[5], m[9]};
+        a.vz = {m[2], m[6], m[10]};
+        a.p = {m[3], m[7], m[11]};
+      }
+      return scene->data->scene.addInstance(std::move(childScene), std::move(transforms), range);
+    });
+  });
+}
+
+uint32_t mbrtNewInstanceSRT(MBRTScene scene, MBRTScene child, const MBRTSRTKey* keys, uint32_t numKeys,
+                            float time0, float time1) {
+  return guarded<uint32_t>(deviceOf(scene), MBRT_INVALID_ID, "mbrtNewInstanceSRT", [&] {
+    return addInstanceOf(scene, child, keys, numKeys, time0, time1, [&](auto childScene, mbrt::TimeRange range) {
+      std::vector<mbrt::SRTKey> srt(numKeys);
+      for (uint32_t k = 0; k < numKeys; ++k) {
+        const MBRTSRTKey& c = keys[k];
+        srt[k].scale = {c.scale[0], c.scale[1], c.scale[2]};
+        srt[k].rotation = {c.rotation[0], c.rotation[1], c.rotation[2], c.rotation[3]};
+        srt[k].translation = {c.translation[0], c.translation[1], c.translation[2]};
+      }
+      return scene->data->scene.addInstance(std::move(childScene), std::move(srt), range);
+    });
+  });
+}
+
+void mbrtSetGeometryFilter(MBRTScene scene, uint32_t geomID, MBRTFilterFunc filter, void* userPtr) {
+  guarded(deviceOf(scene), 0, "mbrtSetGeometryFilter", [&] {
     checkScene(scene);
-    require(child && child->tag == kSceneTag, "NULL or invalid child scene handle");
-    require(child->device == scene->device, "the child scene belongs to another device");
-    require(child != scene, "a scene cannot instance itself");
-    require(keys != nullptr, "keys is NULL");
-    require(numKeys >= 1, "numKeys must be at least 1");
-    mbrt::TimeRange range = timeRange(time0, time1);
-    std::vector<mbrt::Affine3f> transforms(numKeys);
-    for (uint32_t k = 0; k < numKeys; ++k) {
-      const float* m = keys + 12 * size_t(k);
-      mbrt::Affine3f& a = transforms[k];
-      a.vx = {m[0], m[4], m[8]};
-      a.vy = {m[1], m[5], m[9]};
-      a.vz = {m[2], m[6], m[10]};
-      a.p = {m[3], m[7], m[11]};
-    }
-    // A cycle would keep the scenes alive forever (shared ownership) and
-    // could never be built: refused here rather than at the build.
-    if (reaches(*child->data, scene->data.get()))
-      fail(MBRT_ERROR_INVALID_ARGUMENT, "the child scene instances this scene (an instance cycle)");
+    checkGeometry(*scene, geomID);
+    if (scene->data->scene.geometry(geomID).type() == mbrt::GeometryType::Instance)
+      fail(MBRT_ERROR_INVALID_ARGUMENT, "geometry " + std::to_string(geomID) +
+                                            " is an instance: filters belong to triangle and segment geometries");
     checkMutable(*scene);
-    uint32_t id = scene->data->scene.addInstance(
-        std::shared_ptr<const mbrt::Scene>(child->data, &child->data->scene), std::move(transforms), range);
-    scene->data->children.push_back(child->data);
-    return id;
+    if (!filter) {
+      scene->data->scene.setFilter(geomID, {}, nullptr);
+      return 0;
+    }
+    scene->data->scene.setFilter(
+        geomID,
+        [filter](const mbrt::FilterArgs& args) {
+          MBRTRay ray = fromRay(args.ray);
+          MBRTHit hit;
+          toHit(args.candidate, hit);
+          return filter(args.userData, &ray, &hit) != 0;
+        },
+        userPtr);
+    return 0;
   });
 }
 
 void mbrtSetGeometryMask(MBRTScene scene, uint32_t geomID, uint32_t mask) {
   guarded(deviceOf(scene), 0, "mbrtSetGeometryMask", [&] {
     checkScene(scene);
-    if (geomID >= scene->data->scene.numGeometries())
-      fail(MBRT_ERROR_INVALID_ARGUMENT, "geometry id " + std::to_string(geomID) + " out of range (the scene has " +
-                                            std::to_string(scene->data->scene.numGeometries()) + ")");
+    checkGeometry(*scene, geomID);
     checkMutable(*scene);
     scene->data->scene.setMask(geomID, mask);
     return 0;

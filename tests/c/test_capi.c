@@ -501,6 +501,123 @@ static void testTimeRangeAndMask(void) {
   mbrtReleaseDevice(device);
 }
 
+/* SRT keys: translation-only keys trace like the same matrix keys, and a
+ * rotating key turns the instance. */
+static void testSrtInstances(void) {
+  MBRTDevice device = mbrtNewDevice();
+  MBRTScene child = mbrtNewScene(device), bySrt = mbrtNewScene(device), byMatrix = mbrtNewScene(device);
+  MBRTScene rotating = mbrtNewScene(device);
+  MBRTVertexBuffer step = {kTri0, 12, 3};
+  const float matrices[24] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, /* */ 1, 0, 0, 2, 0, 1, 0, 0, 0, 0, 1, 0};
+  MBRTSRTKey keys[2] = {{{1, 1, 1}, {1, 0, 0, 0}, {0, 0, 0}}, {{1, 1, 1}, {1, 0, 0, 0}, {2, 0, 0}}};
+  /* 90 degrees about z at time 1: (x, y) -> (-y, x). */
+  MBRTSRTKey turn[2] = {{{1, 1, 1}, {1, 0, 0, 0}, {0, 0, 0}}, {{1, 1, 1}, {0.70710678f, 0, 0, 0.70710678f}, {0, 0, 0}}};
+  MBRTSRTKey zeroRotation = {{1, 1, 1}, {0, 0, 0, 0}, {0, 0, 0}};
+  MBRTAccel a, b, r;
+  MBRTRay ray = makeRay(0.9f, 0, -5, 0, 0, 1, 1.0f);
+  MBRTHit ha, hb;
+  size_t i, wrong = 0, hits = 0;
+  CHECK(mbrtNewTriangleMesh(child, kTriIndices, 1, &step, 1, 0, 1) == 0);
+  CHECK(mbrtNewInstanceSRT(bySrt, child, keys, 2, 0, 1) == 0);
+  CHECK(mbrtNewInstance(byMatrix, child, matrices, 2, 0, 1) == 0);
+  CHECK(mbrtNewInstanceSRT(rotating, child, turn, 2, 0, 1) == 0);
+  a = mbrtNewAccel(bySrt, "stbvh", NULL);
+  b = mbrtNewAccel(byMatrix, "stbvh", NULL);
+  r = mbrtNewAccel(rotating, "bvh-interp", NULL);
+  CHECK(a && b && r);
+  for (i = 0; i < 10000; ++i) {
+    MBRTRay q = makeRay(between(-2, 4), between(-2, 2), -3, between(-0.2f, 0.2f), between(-0.2f, 0.2f), 1, uniform());
+    int fa = mbrtIntersect1(a, &q, &ha), fb = mbrtIntersect1(b, &q, &hb);
+    hits += (size_t)fa;
+    if (fa != fb || (fa && (fabsf(ha.t - hb.t) > 1e-5f || ha.instID != hb.instID))) ++wrong;
+  }
+  CHECK(wrong == 0);
+  printf("srt and matrix keys agree on 10000 rays, %zu hits\n", hits);
+  CHECK(hits > 400); /* about 8% of the rays meet the triangle */
+  /* (0.9, 0) is inside the turned triangle only. */
+  CHECK(mbrtIntersect1(r, &ray, &ha) == 1 && ha.instID == 0 && fabsf(ha.t - 5.0f) < 1e-5f);
+  ray.time = 0.0f;
+  CHECK(mbrtIntersect1(r, &ray, &ha) == 0);
+  mbrtReleaseAccel(a);
+  mbrtReleaseAccel(b);
+  mbrtReleaseAccel(r);
+  /* A zero quaternion is refused at the build. */
+  mbrtReleaseScene(rotating);
+  rotating = mbrtNewScene(device);
+  CHECK(mbrtNewInstanceSRT(rotating, child, &zeroRotation, 1, 0, 1) == 0);
+  CHECK(mbrtNewAccel(rotating, "stbvh", NULL) == NULL);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "mbrtNewAccel");
+  CHECK(mbrtNewInstanceSRT(rotating, child, NULL, 1, 0, 1) == MBRT_INVALID_ID);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "keys is NULL");
+  mbrtReleaseScene(rotating);
+  mbrtReleaseScene(bySrt);
+  mbrtReleaseScene(byMatrix);
+  mbrtReleaseScene(child);
+  mbrtReleaseDevice(device);
+}
+
+typedef struct FilterState {
+  int calls;
+  uint32_t reject; /* primID rejected; MBRT_INVALID_ID: reject every hit */
+} FilterState;
+
+static int rejectPrim(void* user, const MBRTRay* ray, const MBRTHit* candidate) {
+  FilterState* state = (FilterState*)user;
+  ++state->calls;
+  (void)ray;
+  return state->reject != MBRT_INVALID_ID && candidate->primID != state->reject;
+}
+
+/* Filters reject candidates: the ray goes on to the next surface. */
+static void testFilters(void) {
+  MBRTDevice device = mbrtNewDevice();
+  MBRTScene scene = mbrtNewScene(device), top = mbrtNewScene(device);
+  /* Two triangles over the origin, at z = 0 (prim 0) and z = 1 (prim 1). */
+  const float verts[] = {-1, -1, 0, 1, -1, 0, 0, 1, 0, -1, -1, 1, 1, -1, 1, 0, 1, 1};
+  const uint32_t indices[] = {0, 1, 2, 3, 4, 5};
+  const float identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  MBRTVertexBuffer step = {verts, 12, 6};
+  MBRTRay ray = makeRay(0, 0, -5, 0, 0, 1, 0);
+  MBRTHit hit;
+  FilterState state = {0, 0};
+  const char* kinds[] = {"brute", "stbvh", "bvh-interp"};
+  size_t k;
+  CHECK(mbrtNewTriangleMesh(scene, indices, 2, &step, 1, 0, 1) == 0);
+  mbrtSetGeometryFilter(scene, 0, rejectPrim, &state);
+  CHECK_ERROR(device, MBRT_ERROR_NONE, "");
+  for (k = 0; k < sizeof(kinds) / sizeof(kinds[0]); ++k) {
+    MBRTAccel accel = mbrtNewAccel(scene, kinds[k], NULL);
+    CHECK(accel != NULL);
+    state.calls = 0, state.reject = 0;
+    CHECK(mbrtIntersect1(accel, &ray, &hit) == 1 && hit.primID == 1 && fabsf(hit.t - 6.0f) < 1e-5f);
+    CHECK(state.calls >= 2);
+    CHECK(mbrtOccluded1(accel, &ray) == 1);
+    state.reject = MBRT_INVALID_ID;
+    CHECK(mbrtIntersect1(accel, &ray, &hit) == 0);
+    CHECK(mbrtOccluded1(accel, &ray) == 0);
+    /* A frozen scene's filter does not change. */
+    mbrtSetGeometryFilter(scene, 0, NULL, NULL);
+    CHECK_ERROR(device, MBRT_ERROR_INVALID_OPERATION, "live accel");
+    mbrtReleaseAccel(accel);
+  }
+  mbrtSetGeometryFilter(scene, 0, NULL, NULL);
+  {
+    MBRTAccel accel = mbrtNewAccel(scene, "stbvh", NULL);
+    state.calls = 0;
+    CHECK(mbrtIntersect1(accel, &ray, &hit) == 1 && hit.primID == 0 && fabsf(hit.t - 5.0f) < 1e-5f);
+    CHECK(state.calls == 0);
+    mbrtReleaseAccel(accel);
+  }
+  CHECK(mbrtNewInstance(top, scene, identity, 1, 0, 1) == 0);
+  mbrtSetGeometryFilter(top, 0, rejectPrim, &state);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "instance");
+  mbrtSetGeometryFilter(scene, 3, rejectPrim, &state);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "out of range");
+  mbrtReleaseScene(top);
+  mbrtReleaseScene(scene);
+  mbrtReleaseDevice(device);
+}
+
 /* Every kind agrees with brute on random rays through the random scene. */
 static void testAgreement(void) {
   enum { kRays = 20000 };
@@ -699,7 +816,8 @@ static const Case kCases[] = {
     {"wrong_handles", testWrongHandles}, {"bad_arguments", testBadArguments},
     {"bad_kind", testBadKind},        {"error_callback", testErrorCallback},
     {"release_in_use", testReleaseInUse}, {"frozen_scene", testFrozenScene},
-    {"time_range_and_mask", testTimeRangeAndMask}, {"agreement", testAgreement},
+    {"time_range_and_mask", testTimeRangeAndMask}, {"srt_instances", testSrtInstances},
+    {"filters", testFilters},         {"agreement", testAgreement},
     {"batched", testBatched},         {"threads", testThreads},
     {"stats", testStats},             {"memory_budget", testMemoryBudget},
 };
