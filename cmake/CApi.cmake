@@ -41,9 +41,13 @@ install(TARGETS mbrt_c EXPORT mbrtTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 
-# pkg-config: `cc trace.c $(pkg-config --cflags --libs mbrt)`.
+# pkg-config: `cc trace.c $(pkg-config --cflags --libs mbrt)`. The prefix is
+# found from the file's own place (${pcfiledir}), so that the file stays
+# true wherever `cmake --install --prefix` puts it.
+file(RELATIVE_PATH _mbrt_pc_to_prefix "/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/")
+string(REGEX REPLACE "/$" "" _mbrt_pc_to_prefix "${_mbrt_pc_to_prefix}")
 file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/mbrt.pc @ONLY CONTENT
-"prefix=@CMAKE_INSTALL_PREFIX@
+"prefix=\${pcfiledir}/@_mbrt_pc_to_prefix@
 libdir=\${prefix}/@CMAKE_INSTALL_LIBDIR@
 includedir=\${prefix}/@CMAKE_INSTALL_INCLUDEDIR@
 
