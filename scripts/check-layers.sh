@@ -12,7 +12,7 @@
 set -euo pipefail
 root="${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
 
-# Lowest layer first: core -> geometry -> scene -> kinds -> accel -> scenes/io/render/bench -> tools.
+# Lowest layer first: core -> geometry -> scene -> kinds -> accel -> c/scenes/io/render/bench -> tools.
 declare -A ALLOWED=(
   [core]=""
   [geometry]="core"
@@ -24,6 +24,7 @@ declare -A ALLOWED=(
   [fuzzykd]="core geometry scene bvh decompose kd"
   [embree]="core geometry scene"
   [accel]="core geometry scene bvh msbvh kd decompose fuzzykd embree"
+  [c]="core scene accel"
   [scenes]="core scene"
   [io]="core scene scenes"
   [render]="core scene accel scenes io"
@@ -36,12 +37,13 @@ declare -A PUBLIC=(
   [build_options.h]=core [accel_stats.h]=core [camera.h]=core
   [scene.h]=scene [scene_bounds.h]=scene
   [accel.h]=accel
+  [mbrt.h]=c
   [scenes.h]=scenes
   [gltf.h]=io [io.h]=io [loaders.h]=io [image.h]=io [ray_file.h]=io [scene_description.h]=io
   [render.h]=render
   [bench.h]=bench
 )
-PUBLIC_ONLY=" io render bench tools scenes "
+PUBLIC_ONLY=" io render bench tools scenes c "
 
 module_of_include() {  # "mbrt/x.h" or "dir/x.h" -> module; empty for a file of the includer's own folder
   local inc="$1"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds mbrt (Release), runs every test, then
 # installs mbrt into a temporary prefix and builds and runs
-# examples/consumer against it with find_package(mbrt).
+# examples/consumer against it with find_package(mbrt), and the C example
+# against the installed libmbrt.so (pkg-config and find_package).
 # Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -32,5 +33,7 @@ if ldd "$tmp/consumer-build/consumer" | grep -E 'libpng|OpenEXR|Iex|Imath'; then
 fi
 "$tmp/consumer-build/consumer"
 "$tmp/prefix/bin/mbrt" --version
+# The C API from the install: pkg-config and find_package(mbrt) with mbrt::c.
+bash tests/c/installed.sh "$tmp/prefix" "$tmp/capi"
 
 echo "test.sh: all tests passed"
