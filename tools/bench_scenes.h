@@ -1,6 +1,6 @@
 // The scenes of `mbrt bench`: the procedural suite and, when ../shared is
-// present, the real scenes of issue 4 (Wood Doll keys, CesiumMan walking,
-// Sponza and the bunny with procedural motion).
+// present, the real scenes (Wood Doll keys, CesiumMan walking, Sponza and
+// the bunny with procedural motion).
 #pragma once
 
 #include <optional>
