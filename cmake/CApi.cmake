@@ -84,12 +84,17 @@ if(MBRT_BUILD_TESTS)
   # Only the C API leaves libmbrt.so.
   add_test(NAME capi.exports_only_c_api
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/check_exports.sh $<TARGET_FILE:mbrt_c>)
+  # A sanitized libmbrt.so needs its runtime linked into the program first.
+  set(MBRT_PLAIN_CC_FLAGS "")
+  if(MBRT_SANITIZE)
+    set(MBRT_PLAIN_CC_FLAGS "-fsanitize=${MBRT_SANITIZE}")
+  endif()
   # A plain C compiler builds the example with mbrt.h alone and libmbrt.so.
   add_test(NAME capi.plain_cc
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/plain_cc.sh ${PROJECT_SOURCE_DIR}
-                   $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_plain_cc)
+                   $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_plain_cc "${MBRT_PLAIN_CC_FLAGS}")
   # The example of docs/c-api.md compiles and runs.
   add_test(NAME capi.doc_example
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/doc_example.sh ${PROJECT_SOURCE_DIR}
-                   $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_doc_example)
+                   $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_doc_example "${MBRT_PLAIN_CC_FLAGS}")
 endif()

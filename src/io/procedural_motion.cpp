@@ -1,12 +1,21 @@
 // A procedural motion (translate / rotate) for static meshes, for experiments.
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "mbrt/io.h"
 
 namespace mbrt {
 namespace {
+
+// A step count for a message: as an integer, whatever its size (a double
+// beyond 2^64 has no unsigned integer to convert to).
+std::string stepCount(double steps) {
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "%.0f", steps);
+  return buf;
+}
 
 std::vector<float> parseFloats(const std::string& s, const std::string& spec) {
   std::vector<float> out;
@@ -54,7 +63,7 @@ ProceduralMotion parseProceduralMotion(const std::string& spec) {
       const double steps = 1.0 + std::ceil(std::fabs(double(m.rotateDegrees)) / 10.0);
       if (steps > double(kMaxProceduralMotionSteps))
         throw Error("motion '" + spec + "': rotating by " + args.substr(0, c2) + " degrees needs " +
-                    std::to_string((unsigned long long)steps) + " steps (one per 10 degrees), more than the limit of " +
+                    stepCount(steps) + " steps (one per 10 degrees), more than the limit of " +
                     std::to_string(kMaxProceduralMotionSteps) + ": rotate by at most " +
                     std::to_string((kMaxProceduralMotionSteps - 1) * 10) + " degrees");
       m.steps = std::max<uint32_t>(m.steps, uint32_t(steps));
