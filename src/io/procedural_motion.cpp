@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 namespace mbrt {
 namespace {
