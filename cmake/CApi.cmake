@@ -32,6 +32,7 @@ set_target_properties(mbrt_c PROPERTIES
   LINK_DEPENDS ${PROJECT_SOURCE_DIR}/src/c/exports.map)
 target_include_directories(mbrt_c PUBLIC
   $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+target_include_directories(mbrt_c PRIVATE ${PROJECT_SOURCE_DIR}/src)
 target_link_libraries(mbrt_c PRIVATE mbrt_accel)
 target_compile_options(mbrt_c PRIVATE ${MBRT_ISA_FLAGS} $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra>)
 target_link_options(mbrt_c PRIVATE

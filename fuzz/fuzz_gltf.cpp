@@ -3,7 +3,7 @@
 #include <cstring>
 
 #include "fuzz_common.h"
-#include "mbrt/gltf.h"
+#include "mbrt/io/gltf.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const bool glb = size >= 4 && std::memcmp(data, "glTF", 4) == 0;

@@ -2,7 +2,7 @@
 #include <sstream>
 
 #include "fuzz_common.h"
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));

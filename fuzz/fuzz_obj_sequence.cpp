@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "fuzz_common.h"
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view all(reinterpret_cast<const char*>(data), size);

@@ -1,6 +1,6 @@
 // libFuzzer target: a PLY file (ascii or binary), then the scene.
 #include "fuzz_common.h"
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = mbrt::fuzz::writeScratch("in.ply", data, size);

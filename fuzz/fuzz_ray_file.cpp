@@ -16,7 +16,7 @@
 
 #include "fuzz_common.h"
 #include "hostile_ray_scene.h"
-#include "mbrt/ray_file.h"
+#include "mbrt/io/ray_file.h"
 
 namespace {
 

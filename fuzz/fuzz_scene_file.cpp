@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "fuzz_common.h"
-#include "mbrt/loaders.h"
+#include "mbrt/io/loaders.h"
 
 namespace {
 void writeAssets() {

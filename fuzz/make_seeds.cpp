@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mbrt/ray_file.h"
+#include "mbrt/io/ray_file.h"
 
 namespace fs = std::filesystem;
 

@@ -39,7 +39,6 @@ declare -A PUBLIC=(
   [accel.h]=accel
   [mbrt.h]=c
   [scenes.h]=scenes
-  [gltf.h]=io [io.h]=io [loaders.h]=io [image.h]=io [ray_file.h]=io [scene_description.h]=io
   [render.h]=render
   [bench.h]=bench
 )

@@ -16,10 +16,10 @@
 #include "error_of.h"
 #include "temp_dir.h"
 #include "mbrt/io/file_access.h"
-#include "mbrt/image.h"
-#include "mbrt/io.h"
-#include "mbrt/loaders.h"
-#include "mbrt/ray_file.h"
+#include "mbrt/io/image.h"
+#include "mbrt/io/mesh_files.h"
+#include "mbrt/io/loaders.h"
+#include "mbrt/io/ray_file.h"
 
 using namespace mbrt;
 using mbrt::test::errorOf;

@@ -18,7 +18,7 @@
 #include "scene/primitive_bounds.h"
 #include "kd/kd_builder.h"
 #include "kd/kd_traverse.h"
-#include "mbrt/loaders.h"
+#include "mbrt/io/loaders.h"
 #include "mbrt/render.h"
 #include "mbrt/scenes.h"
 #include "oracle.h"

@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include "error_of.h"
-#include "mbrt/gltf.h"
-#include "mbrt/loaders.h"
+#include "mbrt/io/gltf.h"
+#include "mbrt/io/loaders.h"
 
 namespace mbrt {
 namespace {

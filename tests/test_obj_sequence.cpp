@@ -9,8 +9,8 @@
 #include <unistd.h>
 
 #include "error_of.h"
-#include "mbrt/io.h"
-#include "mbrt/loaders.h"
+#include "mbrt/io/mesh_files.h"
+#include "mbrt/io/loaders.h"
 
 namespace mbrt {
 namespace {

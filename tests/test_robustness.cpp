@@ -12,10 +12,10 @@
 #include <fstream>
 #include <limits>
 
-#include "mbrt/gltf.h"
-#include "mbrt/io.h"
-#include "mbrt/loaders.h"
-#include "mbrt/ray_file.h"
+#include "mbrt/io/gltf.h"
+#include "mbrt/io/mesh_files.h"
+#include "mbrt/io/loaders.h"
+#include "mbrt/io/ray_file.h"
 #include "mbrt/render.h"
 #include "hostile_ray_scene.h"
 #include "oracle.h"

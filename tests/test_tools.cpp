@@ -14,9 +14,9 @@
 
 #include "temp_dir.h"
 #include "mbrt/accel.h"
-#include "mbrt/image.h"
-#include "mbrt/io.h"
-#include "mbrt/ray_file.h"
+#include "mbrt/io/image.h"
+#include "mbrt/io/mesh_files.h"
+#include "mbrt/io/ray_file.h"
 
 using namespace mbrt;
 using mbrt::test::TempDir;

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "mbrt/loaders.h"
+#include "mbrt/io/loaders.h"
 
 namespace mbrt::tools {
 namespace {

@@ -17,8 +17,8 @@
 #include "mbrt/bench.h"
 #include "bench_scenes.h"
 #include "commands.h"
-#include "mbrt/loaders.h"
-#include "mbrt/ray_file.h"
+#include "mbrt/io/loaders.h"
+#include "mbrt/io/ray_file.h"
 #include "scene_loading.h"
 
 namespace mbrt::tools {

@@ -19,7 +19,7 @@
 
 #include "commands.h"
 #include "mbrt/io/file_access.h"
-#include "mbrt/image.h"
+#include "mbrt/io/image.h"
 #include "mbrt/render.h"
 #include "output_paths.h"
 #include "progress_bar.h"

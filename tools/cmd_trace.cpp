@@ -1,5 +1,5 @@
 // `mbrt trace`: closest hits of a ray file, written as a hit file
-// (mbrt/ray_file.h); `--generate N` writes a ray file of random camera rays.
+// (mbrt/io/ray_file.h); `--generate N` writes a ray file of random camera rays.
 #include <tbb/parallel_for.h>
 
 #include <chrono>
@@ -12,7 +12,7 @@
 #include "commands.h"
 #include "mbrt/camera.h"
 #include "mbrt/io/file_access.h"
-#include "mbrt/ray_file.h"
+#include "mbrt/io/ray_file.h"
 #include "output_paths.h"
 #include "scene_loading.h"
 

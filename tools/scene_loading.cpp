@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "mbrt/loaders.h"
+#include "mbrt/io/loaders.h"
 #include "progress_bar.h"
 
 namespace mbrt::tools {

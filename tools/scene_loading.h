@@ -10,7 +10,7 @@
 #include <string>
 
 #include "mbrt/accel.h"
-#include "mbrt/scene_description.h"
+#include "mbrt/io/scene_description.h"
 #include "mbrt/scenes.h"
 
 namespace mbrt::tools {

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "mbrt/accel.h"
-#include "mbrt/image.h"
-#include "mbrt/scene_description.h"
+#include "mbrt/io/image.h"
+#include "mbrt/io/scene_description.h"
 
 namespace mbrt {
 

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "mbrt/bench.h"
+#include "mbrt/camera.h"
 #include "bench/bench_internal.h"
 
 namespace mbrt::bench {
@@ -23,20 +24,13 @@ struct SurfacePoint {
 
 std::vector<Ray> cameraRays(const CameraSpec& cam, int width, int height, uint64_t seed,
                             const std::vector<float>* snapTimes) {
-  const Vec3f fwd = normalize(cam.target - cam.eye);
-  const Vec3f right = normalize(cross(fwd, cam.up));
-  const Vec3f up = cross(right, fwd);
-  const float tanHalf = std::tan(cam.verticalFovDegrees * kPi / 360.0f);
-  const float aspect = float(width) / float(height);
+  const PinholeCamera camera(cam, float(width) / float(height));
   const size_t n = size_t(width) * size_t(height);
   std::vector<Ray> rays(n);
   for (size_t i = 0; i < n; ++i) {
     const float px = (float(i % width) + uniform(seed, i, 0)) / float(width);
     const float py = (float(i / width) + uniform(seed, i, 1)) / float(height);
-    Ray& r = rays[i];
-    r.org = cam.eye;
-    r.dir = fwd + right * ((2 * px - 1) * tanHalf * aspect) + up * ((1 - 2 * py) * tanHalf);
-    r.time = uniform(seed, i, 2);
+    Ray& r = rays[i] = camera.ray(px, py, uniform(seed, i, 2));
     if (snapTimes && !snapTimes->empty()) {
       float best = (*snapTimes)[0];
       for (float t : *snapTimes)

@@ -2,7 +2,7 @@
 #include <string>
 
 #include "mbrt/io/file_access.h"
-#include "mbrt/image.h"
+#include "mbrt/io/image.h"
 #include "mbrt/scene.h"
 
 #ifdef MBRT_HAVE_OPENEXR

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "mbrt/gltf.h"
+#include "mbrt/io/gltf.h"
 #include "mbrt/quaternion.h"
 
 namespace tinygltf {

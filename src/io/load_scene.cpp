@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "mbrt/loaders.h"
+#include "mbrt/io/loaders.h"
 #include "mbrt/scenes.h"
 
 namespace mbrt {

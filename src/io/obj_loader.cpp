@@ -4,7 +4,7 @@
 #include <string>
 
 #include "mbrt/io/file_access.h"
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 namespace mbrt {
 namespace {

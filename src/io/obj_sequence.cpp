@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 namespace mbrt {
 namespace {

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "mbrt/io/file_access.h"
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 namespace mbrt {
 namespace {

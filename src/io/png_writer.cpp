@@ -12,7 +12,7 @@
 #include <limits>
 
 #include "mbrt/io/file_access.h"
-#include "mbrt/image.h"
+#include "mbrt/io/image.h"
 #include "mbrt/scene.h"  // Error
 
 namespace mbrt {

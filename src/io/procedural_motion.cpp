@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "mbrt/io.h"
+#include "mbrt/io/mesh_files.h"
 
 namespace mbrt {
 namespace {

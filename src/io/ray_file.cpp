@@ -1,6 +1,6 @@
 // Ray and hit files, byte by byte so that the format is little-endian
 // whatever the host.
-#include "mbrt/ray_file.h"
+#include "mbrt/io/ray_file.h"
 
 #include <bit>
 

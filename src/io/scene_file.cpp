@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "mbrt/io/file_access.h"
-#include "mbrt/loaders.h"
+#include "mbrt/io/loaders.h"
 
 namespace mbrt {
 namespace {

@@ -6,7 +6,7 @@
 #include <span>
 #include <string>
 
-#include "mbrt/image.h"
+#include "mbrt/io/image.h"
 
 namespace mbrt::renderer {
 

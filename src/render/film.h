@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "mbrt/image.h"
+#include "mbrt/io/image.h"
 #include "mbrt/render.h"
 
 namespace mbrt::renderer {

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "mbrt/ray.h"
-#include "mbrt/scene_description.h"
+#include "mbrt/io/scene_description.h"
 
 namespace mbrt::renderer {
 

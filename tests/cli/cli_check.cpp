@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "mbrt/image.h"
-#include "mbrt/ray_file.h"
+#include "mbrt/io/image.h"
+#include "mbrt/io/ray_file.h"
 #include "mbrt/scene.h"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mbrt/scene_description.h"
+#include "mbrt/io/scene_description.h"
 
 namespace mbrt {
 

@@ -5,9 +5,9 @@
 
 #include <string>
 
-#include "mbrt/gltf.h"
-#include "mbrt/io.h"
-#include "mbrt/scene_description.h"
+#include "mbrt/io/gltf.h"
+#include "mbrt/io/mesh_files.h"
+#include "mbrt/io/scene_description.h"
 
 namespace mbrt {
 

@@ -1,0 +1,151 @@
+// The C API's kinds, build options, accels, statistics and tracing
+// (mbrt/mbrt.h).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "c/handles.h"
+
+using namespace mbrt::capi;
+
+extern "C" {
+
+uint32_t mbrtGetKindCount(void) {
+  return guarded<uint32_t>(nullptr, 0, "mbrtGetKindCount", [] { return uint32_t(kindNames().size()); });
+}
+
+const char* mbrtGetKindName(uint32_t index) {
+  return guarded<const char*>(nullptr, nullptr, "mbrtGetKindName", [&]() -> const char* {
+    const auto& names = kindNames();
+    if (index >= names.size())
+      fail(MBRT_ERROR_INVALID_ARGUMENT, "kind index " + std::to_string(index) + " out of range (" +
+                                            std::to_string(names.size()) + " kinds)");
+    return names[index].c_str();
+  });
+}
+
+void mbrtDefaultBuildOptions(MBRTBuildOptions* options) {
+  guarded(nullptr, 0, "mbrtDefaultBuildOptions", [&] {
+    require(options != nullptr, "options is NULL");
+    mbrt::BuildOptions d;
+    options->branching = d.branching;
+    options->maxLeafSize = d.maxLeafSize;
+    options->sahBins = d.sahBins;
+    options->traversalCost = d.traversalCost;
+    options->frozenTime = d.frozenTime;
+    options->memoryBudget = d.memoryBudget;
+    options->maxInstanceDepth = d.maxInstanceDepth;
+    return 0;
+  });
+}
+
+MBRTAccel mbrtNewAccel(MBRTScene scene, const char* kind, const MBRTBuildOptions* options) {
+  return guarded<MBRTAccel>(deviceOf(scene), nullptr, "mbrtNewAccel", [&] {
+    checkScene(scene);
+    require(kind != nullptr, "kind is NULL");
+    auto parsed = mbrt::parseAccelKind(kind);
+    if (!parsed) {
+      std::string names;
+      for (const auto& k : kindNames()) names += (names.empty() ? "" : ", ") + k;
+      fail(MBRT_ERROR_INVALID_ARGUMENT, std::string("unknown kind \"") + kind + "\" (kinds: " + names + ")");
+    }
+    mbrt::BuildOptions o;
+    o.kind = *parsed;
+    if (options) {
+      o.branching = options->branching;
+      o.maxLeafSize = options->maxLeafSize;
+      o.sahBins = options->sahBins;
+      o.traversalCost = options->traversalCost;
+      o.frozenTime = options->frozenTime;
+      o.memoryBudget = options->memoryBudget;
+      o.maxInstanceDepth = options->maxInstanceDepth;
+    }
+    auto a = std::make_unique<MBRTAccelT>();
+    a->scene = scene;
+    a->accel = mbrt::Accel::build(scene->data->scene, o);
+    scene->liveAccels.fetch_add(1);
+    addUsers(*scene->data, 1);
+    return a.release();
+  });
+}
+
+void mbrtReleaseAccel(MBRTAccel accel) {
+  guarded(deviceOf(accel), 0, "mbrtReleaseAccel", [&] {
+    checkAccel(accel);
+    accel->scene->liveAccels.fetch_sub(1);
+    addUsers(*accel->scene->data, -1);
+    accel->tag = 0;
+    delete accel;
+    return 0;
+  });
+}
+
+int mbrtGetAccelStats(MBRTAccel accel, MBRTAccelStats* stats) {
+  return guarded(deviceOf(accel), 0, "mbrtGetAccelStats", [&] {
+    checkAccel(accel);
+    require(stats != nullptr, "stats is NULL");
+    mbrt::AccelStats s = accel->accel->stats();
+    std::memset(stats, 0, sizeof(*stats));
+    std::strncpy(stats->kind, s.kind.c_str(), sizeof(stats->kind) - 1);
+    stats->primitives = s.primitives;
+    stats->references = s.references;
+    stats->innerNodes = s.innerNodes;
+    stats->leafNodes = s.leafNodes;
+    stats->maxDepth = s.maxDepth;
+    stats->bytes = s.bytes;
+    stats->peakBuildBytes = s.peakBuildBytes;
+    stats->sahCost = s.sahCost;
+    stats->buildSeconds = s.buildSeconds;
+    stats->invalidRays = s.invalidRays;
+    return 1;
+  });
+}
+
+int mbrtIntersect1(MBRTAccel accel, const MBRTRay* ray, MBRTHit* hit) {
+  return guarded(deviceOf(accel), (missHit(hit), 0), "mbrtIntersect1", [&] {
+    checkAccel(accel);
+    require(ray != nullptr, "ray is NULL");
+    require(hit != nullptr, "hit is NULL");
+    mbrt::Hit h;
+    bool found = accel->accel->intersect(toRay(*ray), h);
+    toHit(h, *hit);
+    return found ? 1 : 0;
+  });
+}
+
+int mbrtOccluded1(MBRTAccel accel, const MBRTRay* ray) {
+  return guarded(deviceOf(accel), 0, "mbrtOccluded1", [&] {
+    checkAccel(accel);
+    require(ray != nullptr, "ray is NULL");
+    return accel->accel->occluded(toRay(*ray)) ? 1 : 0;
+  });
+}
+
+int mbrtIntersectM(MBRTAccel accel, const MBRTRay* rays, MBRTHit* hits, size_t count) {
+  return guarded(deviceOf(accel), 0, "mbrtIntersectM", [&] {
+    checkAccel(accel);
+    require(count == 0 || (rays && hits), "rays or hits is NULL");
+    const mbrt::Accel& a = *accel->accel;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        mbrt::Hit h;
+        a.intersect(toRay(rays[i]), h);
+        toHit(h, hits[i]);
+      }
+    });
+    return 1;
+  });
+}
+
+int mbrtOccludedM(MBRTAccel accel, const MBRTRay* rays, uint8_t* occluded, size_t count) {
+  return guarded(deviceOf(accel), 0, "mbrtOccludedM", [&] {
+    checkAccel(accel);
+    require(count == 0 || (rays && occluded), "rays or occluded is NULL");
+    const mbrt::Accel& a = *accel->accel;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) occluded[i] = a.occluded(toRay(rays[i])) ? 1 : 0;
+    });
+    return 1;
+  });
+}
+
+}  // extern "C"
