@@ -201,7 +201,7 @@ std::vector<int64_t> framesToRender(const std::vector<int64_t>& frames, const Fr
 void printFrameLine(const FrameRecord& r, const std::string& path, int rank) {
   char who[32] = "";
   if (rank >= 0) std::snprintf(who, sizeof who, "  rank %d", rank);
-  std::printf("frame %6lld  scene %8.2f ms  %-22s %8.2f ms  render %7.3f s  %s%s\n", (long long)r.frame,
+  std::printf("frame %6lld  scene %8.2f ms  %-27s %8.2f ms  render %7.3f s  %s%s\n", (long long)r.frame,
               r.sceneSeconds * 1e3, r.update.c_str(), r.updateSeconds * 1e3, r.renderSeconds, path.c_str(), who);
   std::fflush(stdout);
 }
