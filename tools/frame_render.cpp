@@ -94,6 +94,7 @@ void FrameRenderer::build(FrameRecord& record, const std::string& why) {
 void FrameRenderer::update(SceneDescription next, FrameRecord& record) {
   if (!accel_ || !sameLayout(*current_.scene, *next.scene)) {
     const bool first = !accel_;
+    accel_.reset();  // before the scene it was built over goes
     current_ = std::move(next);
     vertexOwner_.reset();
     build(record, first ? "build" : "rebuild (new layout)");
