@@ -2,6 +2,7 @@
 // clips (with their time spans and frame counts), meshes and cameras; an OBJ
 // sequence's keys; for every input the loaded scene's geometries with their
 // steps, its bounds and its camera.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -32,9 +33,11 @@ void printGltf(const std::string& path, double fps) {
   std::printf("clips     %zu\n", info.clips.size());
   for (size_t i = 0; i < info.clips.size(); ++i) {
     const GltfClipInfo& c = info.clips[i];
-    const double frames = std::floor((c.end - c.start) * fps + 1e-6);
-    std::printf("  clip %zu '%s': %g to %g s, %zu channels, %g frames at %g fps\n", i, c.name.c_str(), c.start, c.end,
-                c.channels, frames, fps);
+    // The frames whose 180 degree shutter lies in the clip (as render --frames allows them).
+    const double first = std::max(0.0, std::ceil(c.start * fps - 1e-6));
+    const double last = std::floor((c.end - 0.5 / fps) * fps + 1e-6);
+    std::printf("  clip %zu '%s': %g to %g s, %zu channels, frames %g to %g at %g fps\n", i, c.name.c_str(), c.start,
+                c.end, c.channels, first, last, fps);
   }
   std::printf("meshes    %zu (%zu nodes, %zu skins)\n", info.meshes.size(), info.nodes, info.skins);
   for (size_t i = 0; i < info.meshes.size(); ++i) {
