@@ -131,5 +131,47 @@ TEST(Frames, KindsWithoutRefitRebuildAndStayCorrect) {
   expectSameImage(scene, *accel, *brute, o);
 }
 
+// One picture split over processes (mpirun, tools/mpi_frames.h) renders
+// ranges of tiles: put together they are the one-process picture exactly.
+TEST(Frames, TileRangesMakeTheWholePicture) {
+  ProceduralScene p = makeProceduralScene("demo", 0.1, 3);
+  SceneDescription scene;
+  scene.scene = p.scene;
+  scene.camera.keys = {p.camera};
+  auto accel = test::buildKind(*p.scene, AccelKind::BvhInterp);
+  RenderOptions o;
+  o.width = 37;
+  o.height = 21;
+  o.spp = 2;
+  o.tileSize = 8;
+  o.integrator = IntegratorKind::Ao;
+  const RenderResult whole = render(scene, *accel, o);
+  const size_t tiles = whole.tilesTotal;  // 5 x 3
+  ASSERT_EQ(tiles, 15u);
+  Image joined(o.width, o.height);
+  for (size_t begin : {size_t(0), size_t(4), size_t(11)}) {
+    RenderOptions part = o;
+    part.tileBegin = begin;
+    part.tileEnd = begin == 0 ? 4 : begin == 4 ? 11 : 99;  // past the end: clamped
+    const RenderResult r = render(scene, *accel, part);
+    EXPECT_TRUE(r.complete);
+    EXPECT_EQ(r.tilesTotal, std::min<size_t>(part.tileEnd, tiles) - begin);
+    for (size_t t = begin; t < std::min<size_t>(part.tileEnd, tiles); ++t) {
+      const int x0 = int(t % 5) * 8, y0 = int(t / 5) * 8;
+      for (int y = y0; y < std::min(o.height, y0 + 8); ++y)
+        for (int x = x0; x < std::min(o.width, x0 + 8); ++x) joined.at(x, y) = r.image.at(x, y);
+    }
+  }
+  for (int y = 0; y < o.height; ++y)
+    for (int x = 0; x < o.width; ++x) {
+      EXPECT_EQ(joined.at(x, y).r, whole.image.at(x, y).r) << x << "," << y;
+      EXPECT_EQ(joined.at(x, y).g, whole.image.at(x, y).g) << x << "," << y;
+      EXPECT_EQ(joined.at(x, y).b, whole.image.at(x, y).b) << x << "," << y;
+    }
+  RenderOptions none = o;
+  none.tileBegin = 20;  // past the last tile: nothing to render
+  EXPECT_EQ(render(scene, *accel, none).tilesTotal, 0u);
+}
+
 }  // namespace
 }  // namespace mbrt
