@@ -261,6 +261,9 @@ void runSequence(RenderArgs& args) {
 void run(RenderArgs& args) {
   refuseSequenceOptions(*args.cmd, args.sequence);
   if (!args.sequence.frames.empty()) return runSequence(args);
+  // One picture under mpirun: rank 0 reports; the others only render rows.
+  if (mpiRank() != 0 && !std::freopen("/dev/null", "w", stdout))
+    throw Error("rank " + std::to_string(mpiRank()) + ": cannot send stdout to /dev/null");
   RenderPlan plan = checkArgs(args);
   const RenderOptions& opt = plan.options;
   std::unique_ptr<tbb::task_arena> arena =
