@@ -8,6 +8,7 @@ packages=(
   libtbb-dev libgtest-dev libcli11-dev libpng-dev libembree-dev libopenexr-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   clang-14 libclang-rt-14-dev
+  libopenmpi-dev openmpi-bin
   git ca-certificates
 )
 

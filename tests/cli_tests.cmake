@@ -189,4 +189,5 @@ mbrt_cli_test(cli.bench_real_scene
   ARGS bench --quick --scene wooddoll --accel bvh-interp --repeats 1 --rays 16 --frozen-times 2)
 
 include(${PROJECT_SOURCE_DIR}/tests/cli_error_tests.cmake)
+include(${PROJECT_SOURCE_DIR}/tests/cli_frames_tests.cmake)
 include(${CMAKE_CURRENT_LIST_DIR}/cli_bench_tests.cmake)

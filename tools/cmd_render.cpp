@@ -20,10 +20,14 @@
 #include "commands.h"
 #include "mbrt/io/file_access.h"
 #include "mbrt/io/image.h"
+#include "mbrt/io/mesh_files.h"
 #include "mbrt/render.h"
 #include "output_paths.h"
 #include "progress_bar.h"
+#include "frames.h"
+#include "mpi_frames.h"
 #include "scene_loading.h"
+#include "stop_signal.h"
 
 namespace mbrt::tools {
 namespace {
@@ -39,7 +43,6 @@ struct RenderArgs {
   AccelArgs accel;
   std::string out = "mbrt.png";
   std::string integrator = "path";
-  std::vector<float> shutter{0.0f, 1.0f};
   std::vector<float> cameraShutter;  // for inputs with their own clock: the part the camera sees
   RenderOptions options;
   int threads = 0;
@@ -48,58 +51,16 @@ struct RenderArgs {
   bool progress = false;
   float exposure = -1.0f;  // EV of the PNG's display transform
   std::string compare;  // a second structure, rendered beside the first
+  SequenceArgs sequence;  // --frames and the camera's --eye, --target, --up, --fov
+  const CLI::App* cmd = nullptr;
 };
-
-enum class OutFormat { Png, Exr };
 
 // What run() settles before loading: the checked options.
 struct RenderPlan {
   OutFormat format = OutFormat::Png;
   RenderOptions options;
+  std::vector<float> sequenceShutter;  // an OBJ sequence's --shutter in seconds
 };
-
-// The signal that stopped the render (SIGINT, SIGTERM), 0 while none.
-std::atomic<int> gSignal{0};
-std::atomic<bool> gInterrupted{false};
-
-extern "C" void onStopSignal(int sig) {
-  gSignal.store(sig);
-  gInterrupted.store(true);
-  std::signal(sig, SIG_DFL);  // a second one ends the process at once
-  static const char kNote[] = "\nmbrt: stopping after the tiles in progress (again: stop at once)\n";
-  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, kNote, sizeof kNote - 1);  // async-signal-safe
-}
-
-const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : "SIGTERM"; }
-
-// Installs the SIGINT and SIGTERM handlers for the lifetime of a render.
-class StopSignalGuard {
- public:
-  StopSignalGuard() {
-    gSignal.store(0);
-    gInterrupted.store(false);
-    previousInt_ = std::signal(SIGINT, onStopSignal);
-    previousTerm_ = std::signal(SIGTERM, onStopSignal);
-  }
-  ~StopSignalGuard() {
-    std::signal(SIGINT, previousInt_ == SIG_ERR ? SIG_DFL : previousInt_);
-    std::signal(SIGTERM, previousTerm_ == SIG_ERR ? SIG_DFL : previousTerm_);
-  }
-  StopSignalGuard(const StopSignalGuard&) = delete;
-  StopSignalGuard& operator=(const StopSignalGuard&) = delete;
-
- private:
-  void (*previousInt_)(int) = SIG_DFL;
-  void (*previousTerm_)(int) = SIG_DFL;
-};
-
-OutFormat formatOf(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".png") return OutFormat::Png;
-  if (ext == ".exr") return OutFormat::Exr;
-  throw UsageError("cannot tell the image format of '" + path + "': use a .png or .exr file name");
-}
 
 bool isShutterPart(const std::vector<float>& v) {
   return v.size() == 2 && v[0] >= 0.0f && v[1] <= 1.0f && v[0] <= v[1];  // false for NaN
@@ -118,21 +79,28 @@ void checkAccelKinds(const RenderArgs& args, IntegratorKind integrator) {
   }
 }
 
-// The part of the normalized shutter the camera sees: --shutter for inputs
-// without a clock (for the others it is in seconds of their clip), or
-// --camera-shutter.
-void applyShutter(const RenderArgs& args, RenderOptions& opt) {
-  if (!isShutterPart(args.shutter))
-    throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 (the part of the normalized shutter to render)");
-  opt.shutterOpen = args.shutter[0];
-  opt.shutterClose = args.shutter[1];
+// The part of the normalized shutter the camera sees. --shutter is in
+// seconds of the input's timeline (frame_source.h): for glTF and JSON files
+// the loader samples it; for an OBJ sequence (key k at k / fps s) it is
+// scaled to the sequence once its keys are known (sequenceShutter); for the
+// others (one second of motion) it is the normalized part as it is.
+// --camera-shutter: the part of the loaded shutter the camera sees.
+void applyShutter(const RenderArgs& args, RenderPlan& plan) {
+  RenderOptions& opt = plan.options;
+  opt.shutterOpen = 0.0f;
+  opt.shutterClose = 1.0f;
   if (!args.scene.shutter.empty() && !hasOwnClock(args.scene.scene)) {
     std::vector<float> v(2);
     char comma = 0;
     std::stringstream ss(args.scene.shutter);
-    if (!(ss >> v[0] >> comma >> v[1]) || comma != ',' || !(ss >> std::ws).eof() || !isShutterPart(v))
-      throw UsageError("--shutter A,B needs 0 <= A <= B <= 1 for '" + args.scene.scene +
-                       "' (the part of the normalized shutter to render), got '" + args.scene.shutter + "'");
+    const bool sequence = isObjSequenceSpec(args.scene.scene);
+    const bool parsed = ss >> v[0] >> comma >> v[1] && comma == ',' && (ss >> std::ws).eof();
+    if (!parsed || !(v[0] >= 0.0f && v[0] <= v[1] && std::isfinite(v[1])) || (!sequence && !isShutterPart(v)))
+      throw UsageError("--shutter A,B needs 0 <= A <= B" + std::string(sequence ? "" : " <= 1") + " for '" +
+                       args.scene.scene + "' (seconds of its timeline" +
+                       (sequence ? ": key k at k / fps s" : ": its motion spans [0, 1] s") + "), got '" +
+                       args.scene.shutter + "'");
+    if (sequence) plan.sequenceShutter = v;
     opt.shutterOpen = v[0];
     opt.shutterClose = v[1];
   }
@@ -142,6 +110,20 @@ void applyShutter(const RenderArgs& args, RenderOptions& opt) {
     opt.shutterOpen = args.cameraShutter[0];
     opt.shutterClose = args.cameraShutter[1];
   }
+}
+
+// An OBJ sequence's --shutter in seconds, as the part of its keys.
+void applySequenceShutter(const RenderArgs& args, const LoadedScene& loaded, RenderPlan& plan) {
+  if (plan.sequenceShutter.empty() || !args.cameraShutter.empty()) return;
+  const uint32_t segments = loaded.scene->maxSegments();
+  const double end = double(segments) / args.scene.fps;
+  const double open = plan.sequenceShutter[0], close = plan.sequenceShutter[1];
+  if (close > end * (1.0 + 1e-6))
+    throw UsageError("--shutter " + args.scene.shutter + " s lies outside '" + args.scene.scene + "' (" +
+                     std::to_string(segments + 1) + " keys at " + std::to_string(args.scene.fps) +
+                     " fps: 0 to " + std::to_string(end) + " s)");
+  plan.options.shutterOpen = segments == 0 ? 0.0f : float(std::min(open / end, 1.0));
+  plan.options.shutterClose = segments == 0 ? 0.0f : float(std::min(close / end, 1.0));
 }
 
 // Every cheap check before loading and rendering, the output's folder and
@@ -167,7 +149,7 @@ RenderPlan checkArgs(RenderArgs& args) {
   plan.options = args.options;
   plan.options.integrator = *integrator;
   plan.options.seed = args.scene.seed;
-  applyShutter(args, plan.options);
+  applyShutter(args, plan);
   return plan;
 }
 
@@ -196,10 +178,15 @@ RenderResult renderWith(const LoadedScene& loaded, const AccelArgs& kindArgs, co
     std::printf("note    embree exposes no traversal counters: the heat map is empty\n");
   std::fflush(stdout);
 
-  ProgressBar bar(progress);
   RenderResult result;
+  if (mpiWorldSize() > 1) {  // under mpirun: rows of tiles over the ranks
+    result = renderPictureMpi(loaded, *accel, opt, arena, &gStopRequested);
+    if (mpiRank() == 0) printResult(built.kind, opt, arena.max_concurrency() * mpiWorldSize(), result);
+    return result;
+  }
+  ProgressBar bar(progress);
   arena.execute([&] {
-    result = render(loaded, *accel, opt, &gInterrupted, [&](const RenderProgress& p) {
+    result = render(loaded, *accel, opt, &gStopRequested, [&](const RenderProgress& p) {
       bar.update(double(p.tilesDone) / double(p.tilesTotal), p.rays, p.seconds);
     });
   });
@@ -242,15 +229,49 @@ void writePicture(const RenderArgs& args, const RenderPlan& plan, const Image& p
   std::fflush(stdout);
 }
 
+// --frames: a sequence, each frame with its own shutter (frames.h).
+void runSequence(RenderArgs& args) {
+  if (!args.compare.empty()) throw UsageError("--compare renders one picture: not with --frames");
+  if (!args.scene.shutter.empty() || !args.cameraShutter.empty())
+    throw UsageError("--frames gives every frame its shutter (--fps, --shutter-angle): not with --shutter or "
+                     "--camera-shutter");
+  const std::vector<int64_t> frames = parseFrames(args.sequence.frames);
+  if (args.cmd->count("--out") == 0) args.out = "frame_%04d.png";
+  FrameOutput out;
+  out.pattern = args.out;
+  out.format = formatOf(framePath(args.out, frames.front()));
+  out.exposure = args.exposure;
+  out.resume = args.sequence.resume;
+  out.mp4 = args.sequence.mp4;
+  out.progress = args.progress || stderrIsTerminal();
+  FrameJob job;
+  args.out = framePath(args.out, frames.front());  // checkArgs checks the first frame's path
+  job.options = checkArgs(args).options;
+  job.scene = args.scene;
+  job.accel = args.accel;
+  job.camera = cameraOverrides(args.sequence, args.aperture, args.focus);
+  job.clock.fps = args.scene.fps;
+  job.clock.shutterAngleDegrees = args.sequence.shutterAngle;
+  job.policy = *parseUpdatePolicy(args.sequence.update);
+  job.rebuildFactor = args.sequence.rebuildFactor;
+  job.threads = args.threads;
+  runFrameSequence(job, frames, out);
+}
+
 void run(RenderArgs& args) {
-  const RenderPlan plan = checkArgs(args);
+  refuseSequenceOptions(*args.cmd, args.sequence);
+  if (!args.sequence.frames.empty()) return runSequence(args);
+  // One picture under mpirun: rank 0 reports; the others only render rows.
+  if (mpiRank() != 0 && !std::freopen("/dev/null", "w", stdout))
+    throw Error("rank " + std::to_string(mpiRank()) + ": cannot send stdout to /dev/null");
+  RenderPlan plan = checkArgs(args);
   const RenderOptions& opt = plan.options;
   std::unique_ptr<tbb::task_arena> arena =
       args.threads > 0 ? std::make_unique<tbb::task_arena>(args.threads) : std::make_unique<tbb::task_arena>();
 
   LoadedScene loaded = loadScene(args.scene);
-  if (args.aperture >= 0.0f) loaded.camera.apertureRadius = args.aperture;
-  if (args.focus >= 0.0f) loaded.camera.focusDistance = args.focus;
+  cameraOverrides(args.sequence, args.aperture, args.focus).apply(loaded.camera);
+  applySequenceShutter(args, loaded, plan);
   std::printf("scene   %s\n", describeScene(loaded).c_str());
   std::fflush(stdout);
 
@@ -264,10 +285,11 @@ void run(RenderArgs& args) {
   std::vector<RenderResult> results;
   const StopSignalGuard guard;
   for (const AccelArgs& kindArgs : kinds) {
-    if (gInterrupted.load() && !results.empty()) break;  // interrupted: write what there is
+    if (gStopRequested.load() && !results.empty()) break;  // interrupted: write what there is
     results.push_back(renderWith(loaded, kindArgs, opt, progress, *arena));
   }
-  const int sig = gSignal.load();
+  if (mpiRank() != 0) return;  // rank 0 writes the picture
+  const int sig = gStopSignal.load();
   const bool anyTile = std::any_of(results.begin(), results.end(), [](const RenderResult& r) { return r.tilesDone > 0; });
   if (sig != 0 && !anyTile) {
     // Nothing rendered (stopped during the build): an old picture is worth more than a black one.
@@ -292,6 +314,8 @@ void registerRenderCommand(CLI::App& app) {
   args->scene.defaultScene = "demo";
   args->scene.shutterForAnyInput = true;  // the part of the normalized shutter for inputs without a clock
   args->scene.seedForAnyInput = true;     // the seed of the camera samples
+  args->scene.fpsForAnyInput = true;      // the clock of frames and of OBJ sequences
+  args->cmd = cmd;
   addSceneOptions(*cmd, args->scene);
   addAccelOptions(*cmd, args->accel);
   RenderOptions& o = args->options;
@@ -306,13 +330,6 @@ void registerRenderCommand(CLI::App& app) {
   cmd->add_option("--spp", o.spp, "Camera samples per pixel, each at its own stratified time")
       ->check(CLI::Range(1, 65536))
       ->capture_default_str();
-  // The input side may define --shutter for the source's own time units
-  // (e.g. seconds of a glTF clip); then the whole normalized shutter renders.
-  if (!cmd->get_option_no_throw("--shutter"))
-    cmd->add_option("--shutter", args->shutter, "Part A,B of the normalized shutter [0,1] the camera sees")
-        ->delimiter(',')
-        ->expected(2)
-        ->capture_default_str();
   cmd->add_option("--camera-shutter", args->cameraShutter,
                   "Part A,B of the normalized shutter [0,1] the camera sees when --shutter is in the input's own "
                   "time (glTF seconds): e.g. 0.5,0.5 renders a sharp middle frame of a scene loaded over a whole clip")
@@ -341,6 +358,8 @@ void registerRenderCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--compare", args->compare,
                   "Also render with this structure and put both pictures side by side (heat maps on one scale)");
+  addSequenceOptions(*cmd, args->sequence);
+  addCameraOptions(*cmd, args->sequence);
   cmd->add_flag("--progress", args->progress, "Show the progress bar even when stderr is not a terminal");
   cmd->callback([args] { run(*args); });
 }

@@ -9,5 +9,6 @@ void registerStatsCommand(CLI::App& app);
 void registerTraceCommand(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
+void registerInfoCommand(CLI::App& app);
 
 }  // namespace mbrt::tools

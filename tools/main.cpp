@@ -9,6 +9,7 @@
 #include <new>
 
 #include "commands.h"
+#include "mpi_frames.h"
 #include "mbrt/scene.h"
 #include "scene_loading.h"
 
@@ -17,6 +18,7 @@
 #endif
 
 int main(int argc, char** argv) {
+  const mbrt::tools::MpiSession mpi(argc, argv);  // under mpirun (MBRT_MPI builds)
   CLI::App app{"mbrt: motion-blur ray tracing kernel (structures, tracing, rendering)", "mbrt"};
   app.set_version_flag("--version", std::string("mbrt ") + MBRT_VERSION);
   app.require_subcommand(1);
@@ -27,6 +29,7 @@ int main(int argc, char** argv) {
     mbrt::tools::registerTraceCommand(app);
     mbrt::tools::registerRenderCommand(app);
     mbrt::tools::registerBenchCommand(app);
+    mbrt::tools::registerInfoCommand(app);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version

@@ -138,9 +138,11 @@ void addSceneOptions(CLI::App& cmd, SceneArgs& args) {
   cmd.add_option("--scene", args.scene, what);
   cmd.add_option("--clip", args.clip, "glTF animation clip, by name or index (default: the first)");
   cmd.add_option("--shutter", args.shutter,
-                 "Shutter A,B in seconds of the glTF clip (default: its start, open for 1/(2*fps) s); A,A: a sharp frame");
+                 "Shutter A,B in seconds of the input's timeline: a glTF clip's seconds (default: its start, open "
+                 "for 1/(2*fps) s), an OBJ sequence's key k at k/fps s, a built-in scene's or mesh's motion over "
+                 "[0,1] s (default: all of it); A,A: a sharp frame");
   cmd.add_option("--steps", args.steps, "Time steps per moving glTF mesh/instance: N or auto")->capture_default_str();
-  cmd.add_option("--fps", args.fps, "Frame rate for the default shutter (180 degrees)")
+  cmd.add_option("--fps", args.fps, "Frame rate: of --frames, of a glTF clip's default shutter, of an OBJ sequence's keys")
       ->check(finiteIn(0.0, 1e6, true))
       ->capture_default_str();
   cmd.add_option("--motion", args.motion,
@@ -213,7 +215,7 @@ void resolveScene(SceneArgs& args) {
   if (form != InputForm::Gltf && form != InputForm::SceneFile) {
     const std::string clocked = "glTF and JSON scene files";
     refuse("--clip", clocked);
-    refuse("--fps", clocked);
+    if (!args.fpsForAnyInput) refuse("--fps", clocked);
     refuse("--steps", clocked);
     if (!args.shutterForAnyInput) refuse("--shutter", clocked + " (seconds of the clip)");
   }
@@ -225,7 +227,7 @@ void resolveScene(SceneArgs& args) {
     refuse("--seed", "built-in scenes here (this command makes no random rays)");
 }
 
-LoadedScene loadScene(SceneArgs& args) {
+LoadedScene loadScene(SceneArgs& args, LoadReport* reportOut) {
   resolveScene(args);
   LoadOptions opt;
   opt.size = args.size;
@@ -273,6 +275,7 @@ LoadedScene loadScene(SceneArgs& args) {
     std::fprintf(stderr, "mbrt: loaded %s in %.3f s\n", args.scene.c_str(), seconds);
     for (const std::string& line : report.lines) std::fprintf(stderr, "mbrt:   %s\n", line.c_str());
   }
+  if (reportOut) *reportOut = std::move(report);
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "mbrt/accel.h"
+#include "mbrt/io/gltf.h"
 #include "mbrt/io/scene_description.h"
 #include "mbrt/scenes.h"
 
@@ -54,7 +55,7 @@ struct SceneArgs {
   double size = 1.0;
   uint64_t seed = 1;
   std::string clip;     // glTF animation clip (name or index)
-  std::string shutter;  // "A,B" in seconds of the clip (glTF, JSON scenes)
+  std::string shutter;  // "A,B" in seconds of the input's timeline (frame_source.h)
   std::string steps = "auto";  // N or auto
   double fps = 24.0;
   std::string motion;   // procedural motion of a static mesh
@@ -64,6 +65,9 @@ struct SceneArgs {
   bool shutterForAnyInput = false;
   // The command uses --seed whatever the input (random rays or samples).
   bool seedForAnyInput = false;
+  // The command uses --fps whatever the input (the clock of frames; OBJ
+  // sequences' keys at k / fps s).
+  bool fpsForAnyInput = false;
   const CLI::App* cmd = nullptr;  // to tell which options were given
 };
 
@@ -97,8 +101,8 @@ std::string accelKindList();
 AccelKind defaultAccelKind();
 
 // Throws UsageError for an unknown scene name or bad options, Error for a
-// bad file. Runs resolveScene first.
-LoadedScene loadScene(SceneArgs& args);
+// bad file. Runs resolveScene first. `report`: what the loader chose.
+LoadedScene loadScene(SceneArgs& args, LoadReport* report = nullptr);
 
 // Builds with the kind given (UsageError when unknown), or with
 // defaultAccelKind() when none was given; a default that fails falls back

@@ -46,6 +46,10 @@ struct RenderOptions {
   IntegratorKind integrator = IntegratorKind::Ao;
   uint64_t seed = 1;
   int tileSize = 16;            // pixels per tile side
+  // Renders only tiles [tileBegin, tileEnd) in row-major tile order (the
+  // rest stays black and the result counts only these): to split one
+  // picture over processes. The pixels do not depend on the split.
+  size_t tileBegin = 0, tileEnd = SIZE_MAX;
   // Ambient occlusion.
   int aoSamples = 2;            // occlusion rays per camera sample
   float aoDistance = 0.0f;      // occlusion ray length; 0: 20% of the scene's diagonal

@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 
@@ -108,14 +109,16 @@ RenderResult render(const SceneDescription& scene, const Accel& accel, const Ren
 
   renderer::Film film(o.width, o.height, heat);
   const int tilesX = (o.width + o.tileSize - 1) / o.tileSize, tilesY = (o.height + o.tileSize - 1) / o.tileSize;
-  const size_t tilesTotal = size_t(tilesX) * size_t(tilesY);
+  const size_t tilesAll = size_t(tilesX) * size_t(tilesY);
+  const size_t tileBegin = std::min(o.tileBegin, tilesAll), tileEnd = std::clamp(o.tileEnd, tileBegin, tilesAll);
+  const size_t tilesTotal = tileEnd - tileBegin;
   std::atomic<size_t> tilesDone{0};
   std::atomic<uint64_t> rays{0};
   std::mutex progressMutex;
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
 
   tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, tilesTotal, 1),
+      tbb::blocked_range<size_t>(tileBegin, tileEnd, 1),
       [&](const tbb::blocked_range<size_t>& range) {
         for (size_t tile = range.begin(); tile != range.end(); ++tile) {
           if (cancel && cancel->load(std::memory_order_relaxed)) return;

@@ -3,9 +3,13 @@
 //   mbrt_cli_check image FILE W H [nonblack]  a PNG or EXR that decodes to W x H
 //                                             (and has a pixel that is not black)
 //   mbrt_cli_check same A B                   two non-empty files with the same bytes
+//   mbrt_cli_check close A B                  two images of one size where at most 0.1% of the pixels
+//                                             (and at least one) differ by more than 1/255 (the
+//                                             render tests' ties tolerance)
 //   mbrt_cli_check rays FILE N                N rays that decode and encode back to the same bytes
 //   mbrt_cli_check hits FILE N                N hit records: hits with t > 0, misses as written for a miss
 // Exit 0 when the check holds, 1 with the reason on stderr otherwise.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -64,6 +68,25 @@ int checkSame(const std::string& a, const std::string& b) {
   return 0;
 }
 
+int checkClose(const std::string& a, const std::string& b) {
+  auto read = [](const std::string& path) {
+    return std::filesystem::path(path).extension() == ".exr" ? mbrt::readExr(path) : mbrt::readPng(path);
+  };
+  const mbrt::Image x = read(a), y = read(b);
+  if (x.width() != y.width() || x.height() != y.height()) return fail(a + " and " + b + " differ in size");
+  size_t differing = 0;
+  for (size_t i = 0; i < x.pixels().size(); ++i) {
+    const mbrt::Rgb &p = x.pixels()[i], &q = y.pixels()[i];
+    if (std::max({std::fabs(p.r - q.r), std::fabs(p.g - q.g), std::fabs(p.b - q.b)}) > 1.0f / 255.0f) ++differing;
+  }
+  const size_t allowed = std::max<size_t>(1, x.pixels().size() / 1000);
+  if (differing > allowed)
+    return fail(a + " and " + b + ": " + std::to_string(differing) + " pixels differ (at most " +
+                std::to_string(allowed) + " may)");
+  std::printf("%s and %s: %zu of %zu pixels differ\n", a.c_str(), b.c_str(), differing, x.pixels().size());
+  return 0;
+}
+
 int checkRays(const std::string& path, size_t n) {
   const std::vector<mbrt::Ray> rays = mbrt::readRays(path);
   if (rays.size() != n) return fail(path + ": " + std::to_string(rays.size()) + " rays, expected " + std::to_string(n));
@@ -100,9 +123,10 @@ int main(int argc, char** argv) {
     if (mode == "image" && (argc == 5 || (argc == 6 && std::string(argv[5]) == "nonblack")))
       return checkImage(argv[2], count(argv[3]), count(argv[4]), argc == 6);
     if (mode == "same" && argc == 4) return checkSame(argv[2], argv[3]);
+    if (mode == "close" && argc == 4) return checkClose(argv[2], argv[3]);
     if (mode == "rays" && argc == 4) return checkRays(argv[2], count(argv[3]));
     if (mode == "hits" && argc == 4) return checkHits(argv[2], count(argv[3]));
-    return fail("usage: mbrt_cli_check image FILE W H [nonblack] | same A B | rays FILE N | hits FILE N");
+    return fail("usage: mbrt_cli_check image FILE W H [nonblack] | same A B | close A B | rays FILE N | hits FILE N");
   } catch (const std::exception& e) {
     return fail(e.what());
   }

@@ -49,3 +49,33 @@ struct LoadReport {
 SceneDescription loadGltf(const std::string& path, const GltfOptions& options = {}, LoadReport* report = nullptr);
 
 }  // namespace mbrt
+
+namespace mbrt {
+
+// What a glTF file holds, for `mbrt info`: its clips with their time spans,
+// meshes, cameras, without sampling any animation.
+struct GltfClipInfo {
+  std::string name;
+  double start = 0.0, end = 0.0;  // seconds
+  size_t channels = 0;
+};
+struct GltfMeshInfo {
+  std::string name;
+  size_t primitives = 0, triangles = 0, vertices = 0, morphTargets = 0;
+  bool skinned = false;  // placed by a node with a skin
+};
+struct GltfCameraInfo {
+  std::string name, type;  // "perspective" or "orthographic"
+  double yfovDegrees = 0.0;  // perspective cameras
+};
+struct GltfFileInfo {
+  std::vector<GltfClipInfo> clips;
+  std::vector<GltfMeshInfo> meshes;
+  std::vector<GltfCameraInfo> cameras;
+  size_t nodes = 0, skins = 0;
+};
+
+// Throws Error naming the file for a missing or bad file.
+GltfFileInfo inspectGltf(const std::string& path);
+
+}  // namespace mbrt

@@ -1,0 +1,47 @@
+// SIGINT and SIGTERM during a render: the first stops the work after what is
+// in progress (the render's cancel flag), a second ends the process at once.
+#pragma once
+
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+
+namespace mbrt::tools {
+
+// The signal that stopped the work (SIGINT, SIGTERM), 0 while none.
+inline std::atomic<int> gStopSignal{0};
+inline std::atomic<bool> gStopRequested{false};
+
+extern "C" inline void onStopSignal(int sig) {
+  gStopSignal.store(sig);
+  gStopRequested.store(true);
+  std::signal(sig, SIG_DFL);  // a second one ends the process at once
+  static const char kNote[] = "\nmbrt: stopping after the work in progress (again: stop at once)\n";
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, kNote, sizeof kNote - 1);  // async-signal-safe
+}
+
+inline const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : "SIGTERM"; }
+
+// Installs the SIGINT and SIGTERM handlers for its lifetime.
+class StopSignalGuard {
+ public:
+  StopSignalGuard() {
+    gStopSignal.store(0);
+    gStopRequested.store(false);
+    previousInt_ = std::signal(SIGINT, onStopSignal);
+    previousTerm_ = std::signal(SIGTERM, onStopSignal);
+  }
+  ~StopSignalGuard() {
+    std::signal(SIGINT, previousInt_ == SIG_ERR ? SIG_DFL : previousInt_);
+    std::signal(SIGTERM, previousTerm_ == SIG_ERR ? SIG_DFL : previousTerm_);
+  }
+  StopSignalGuard(const StopSignalGuard&) = delete;
+  StopSignalGuard& operator=(const StopSignalGuard&) = delete;
+
+ private:
+  void (*previousInt_)(int) = SIG_DFL;
+  void (*previousTerm_)(int) = SIG_DFL;
+};
+
+}  // namespace mbrt::tools
