@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "mbrt/io/file_access.h"
 #include "mbrt/io/image.h"
+#include "mbrt/io/loaders.h"
 #include "mbrt/render.h"
 #include "output_paths.h"
 #include "progress_bar.h"
@@ -48,6 +49,7 @@ struct RenderArgs {
   bool progress = false;
   float exposure = -1.0f;  // EV of the PNG's display transform
   std::string compare;  // a second structure, rendered beside the first
+  bool stage = true;    // a loaded model stands on a ground plane (addStage)
 };
 
 enum class OutFormat { Png, Exr };
@@ -249,6 +251,7 @@ void run(RenderArgs& args) {
       args.threads > 0 ? std::make_unique<tbb::task_arena>(args.threads) : std::make_unique<tbb::task_arena>();
 
   LoadedScene loaded = loadScene(args.scene);
+  if (args.stage && addStage(loaded)) std::printf("stage   ground plane, sky and sun (--no-stage: none)\n");
   if (args.aperture >= 0.0f) loaded.camera.apertureRadius = args.aperture;
   if (args.focus >= 0.0f) loaded.camera.focusDistance = args.focus;
   std::printf("scene   %s\n", describeScene(loaded).c_str());
@@ -341,6 +344,8 @@ void registerRenderCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--compare", args->compare,
                   "Also render with this structure and put both pictures side by side (heat maps on one scale)");
+  cmd->add_flag("!--no-stage", args->stage,
+                "A loaded model (glTF, OBJ, PLY) without surroundings: no ground plane under it");
   cmd->add_flag("--progress", args->progress, "Show the progress bar even when stderr is not a terminal");
   cmd->callback([args] { run(*args); });
 }
