@@ -37,6 +37,11 @@ bool addStage(SceneDescription& d) {
   checker.nearest = true;
   d.textures.push_back(std::move(checker));
 
+  // A sun from the upper left, in front of the default camera (which looks
+  // along -z): the lit side faces the camera and the shadow falls to the
+  // right, behind the model, where it shows.
+  d.lights = {DirectionalLight{normalize(Vec3f{0.45f, -0.75f, -0.5f}), {2.6f, 2.45f, 2.2f}}};
+
   // The ground's material is its own (a face material), so that a
   // description without materials keeps its per-geometry palette.
   d.surfaces.resize(id + 1);

@@ -40,7 +40,8 @@ CameraSpec frameScene(const Scene& scene);
 // Puts a loaded model that brings no environment (!bringsEnvironment) on a
 // stage: a ground plane (y up, a grey checker texture) just below its
 // lowest point over the shutter, reaching 25 times its size each way, under
-// the description's sky and sun (lights), so that it casts a shadow. Adds
+// the description's sky and a sun from the upper left in front (replacing
+// `lights`), so that it casts a shadow beside it. Adds
 // one geometry to d.scene (call before building an Accel) and returns true;
 // returns false and changes nothing for descriptions that bring their own
 // environment or have empty bounds.
