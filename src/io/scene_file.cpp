@@ -30,7 +30,7 @@ class SceneFile {
     if (!doc.is_object()) fail("the top level must be an object");
     for (auto it = doc.begin(); it != doc.end(); ++it)
       if (it.key() != "objects" && it.key() != "camera" && it.key() != "shutter" && it.key() != "fps" &&
-          it.key() != "steps" && it.key() != "lights" && it.key() != "sky")
+          it.key() != "steps" && it.key() != "lights" && it.key() != "sky" && it.key() != "stage")
         fail("unknown key '" + it.key() + "'");
     LoadOptions opt = options_;
     if (doc.contains("shutter")) {
@@ -71,7 +71,9 @@ class SceneFile {
       }
     }
     if (doc.contains("sky")) out.skyColor = colour(doc["sky"], "sky", 1e6);
-    out.bringsEnvironment = true;
+    // "stage": true puts the objects on mbrt render's stage (addStage).
+    if (doc.contains("stage") && !doc["stage"].is_boolean()) fail("'stage' must be true or false");
+    out.bringsEnvironment = !doc.value("stage", false);
     return out;
   }
 
