@@ -110,7 +110,8 @@ std::optional<CameraSpec> viewFromInside(const Scene& scene, const Box3f& box) {
   if (facing < kAround * 3 / 4 || hitFraction[kAround / 2] < 0.3f) return std::nullopt;
 
   // From near one end of the longer horizontal axis, a quarter of the way
-  // up from the floor, looking along the axis.
+  // up from the floor, looking along the axis; a little more than halfway
+  // to the wall behind, so that the near end of the room is still in view.
   const Vec3f size = box.size();
   const Vec3f axis = size.x >= size.z ? Vec3f{1, 0, 0} : Vec3f{0, 0, 1};
   const float floorY = c.y - down.t;
@@ -119,7 +120,7 @@ std::optional<CameraSpec> viewFromInside(const Scene& scene, const Box3f& box) {
   trace(scene, back);
   const float room = back[0].t < kInf ? back[0].t : toBoundary(box, start, -axis);
   CameraSpec cam;
-  cam.eye = start - axis * (0.85f * room);
+  cam.eye = start - axis * (0.55f * room);
   cam.target = start + axis * room + Vec3f{0.0f, 0.15f * room, 0.0f};
   cam.up = {0, 1, 0};
   cam.verticalFovDegrees = 60.0f;
