@@ -200,7 +200,7 @@ TEST(Materials, FactorWithoutTextureAndBadTextures) {
   EXPECT_NE(e.find("image 0"), std::string::npos) << e;
   EXPECT_NE(e.find("corrupt"), std::string::npos) << e;
   const std::vector<uint8_t> garbage{'n', 'o', 't', ' ', 'a', 'n', ' ', 'i', 'm', 'a', 'g', 'e'};
-  EXPECT_NE(errorOf([&] { decodeTexture(garbage, "g.png"); }).find("not a PNG or JPEG"), std::string::npos);
+  EXPECT_NE(errorOf([&] { decodeTexture(garbage, "g.png"); }).find("g.png: not a PNG or JPEG"), std::string::npos);
   EXPECT_NE(errorOf([&] { readTexture(dir.file("absent.png")); }).find("absent.png"), std::string::npos);
 
   // A description whose surfaces do not fit the scene is refused by render().
@@ -307,6 +307,30 @@ TEST(Materials, StageUnderALoadedModelOnly) {
   const uint32_t n = suite.scene->numGeometries();
   EXPECT_FALSE(addStage(suite));
   EXPECT_EQ(suite.scene->numGeometries(), n);
+}
+
+TEST(Materials, SceneFilesKeepTexturesAndMayAskForTheStage) {
+  TempDir dir;
+  writeQuad(dir, "file", kNearestClamp, png2x2(kTexels));
+  const std::string path = dir.write(
+      "s.json",
+      "{\"stage\": true, \"objects\": [{\"file\": \"quad.gltf\"}, {\"file\": \"quad.gltf\", \"translate\": [2, 0, 0]},"
+      " {\"file\": \"quad.gltf\", \"translate\": [4, 0, 0], \"diffuse\": [0.1, 0.2, 0.3]}]}");
+  SceneDescription d = loadSceneSpec(path);
+  EXPECT_FALSE(d.bringsEnvironment);
+  ASSERT_EQ(d.textures.size(), 3u);  // one per object
+  ASSERT_EQ(d.materials.size(), 3u);
+  EXPECT_EQ(d.materials[1].texture, 1);
+  Hit h = quadHit(0, 0.1f, 0.1f);
+  h.geomID = 1;
+  expectColor(albedoAt(d, h), kFactor * texelColor(2), "second object");
+  h.geomID = 2;  // "diffuse" replaces the factor, the texture stays
+  expectColor(albedoAt(d, h), Vec3f{0.1f, 0.2f, 0.3f} * texelColor(2), "diffuse override");
+  EXPECT_TRUE(addStage(d));
+  const std::string plain = dir.write("p.json", "{\"objects\": [{\"file\": \"quad.gltf\"}]}");
+  EXPECT_TRUE(loadSceneSpec(plain).bringsEnvironment);
+  const std::string bad = dir.write("b.json", "{\"stage\": 1, \"objects\": [{\"file\": \"quad.gltf\"}]}");
+  EXPECT_NE(errorOf([&] { loadSceneSpec(bad); }).find("'stage' must be true or false"), std::string::npos);
 }
 
 // An axis-aligned box [0,sx]x[0,sy]x[0,sz] as 12 triangles, facing inwards

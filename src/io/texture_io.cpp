@@ -35,7 +35,8 @@ Texture decodeTexture(std::span<const uint8_t> bytes, const std::string& name) {
   const int len = int(bytes.size());
   int w = 0, h = 0, channels = 0;
   if (!stbi_info_from_memory(bytes.data(), len, &w, &h, &channels))
-    throw Error(name + ": not a PNG or JPEG image (" + std::string(stbi_failure_reason()) + ")");
+    throw Error(name + ": not a PNG or JPEG image, or a truncated or corrupt one (" + std::string(stbi_failure_reason()) +
+                ")");
   if (w < 1 || h < 1 || w > kMaxTextureSide || h > kMaxTextureSide)
     throw Error(name + ": texture size " + std::to_string(w) + " x " + std::to_string(h) + " is outside [1, " +
                 std::to_string(kMaxTextureSide) + "]");
