@@ -109,9 +109,9 @@ std::optional<CameraSpec> viewFromInside(const Scene& scene, const Box3f& box) {
   // Walls facing inwards, and mostly far from the centre: a room, not the inside of a solid.
   if (facing < kAround * 3 / 4 || hitFraction[kAround / 2] < 0.3f) return std::nullopt;
 
-  // From near one end of the longer horizontal axis, a quarter of the way
-  // up from the floor, looking along the axis; a little more than halfway
-  // to the wall behind, so that the near end of the room is still in view.
+  // On the longer horizontal axis, a quarter of the way up from the floor,
+  // looking along the axis, a little more than halfway from the centre to
+  // the wall behind (nearer to it, the arches of a room's end fill the view).
   const Vec3f size = box.size();
   const Vec3f axis = size.x >= size.z ? Vec3f{1, 0, 0} : Vec3f{0, 0, 1};
   const float floorY = c.y - down.t;

@@ -33,7 +33,7 @@ SceneDescription loadSceneFile(const std::string& path, const LoadOptions& optio
 // all steps from the front (frameBox), or, when the scene is a closed room
 // around its centre (probe rays from there meet inward-facing walls on
 // every side, far from the centre, and a floor below), looks along the
-// room's longer horizontal axis from near one end. Scenes of more than 8M
+// room's longer horizontal axis from inside (docs/renderer.md). Scenes of more than 8M
 // triangles are framed from the front without probing.
 CameraSpec frameScene(const Scene& scene);
 
