@@ -165,6 +165,15 @@ mbrt_cli_test(cli.render_shutter_obj
   OUT "shutter \\[0.25, 0.5\\]"
   CHECK "image ${O}/shutter.png 8 8"
   ARGS render ${MBRT_CLI_SCENE} --shutter 0.25,0.5 --width 8 --height 8 --spp 1 -o ${O}/shutter.png)
+# A loaded model stands on the stage (a ground plane and a sun) unless --no-stage.
+mbrt_cli_test(cli.render_stage
+  OUT "^stage +ground plane" "2 geometries"
+  CHECK "image ${O}/stage.png 8 8 nonblack"
+  ARGS render ${MBRT_CLI_SCENE} --width 8 --height 8 --spp 1 -o ${O}/stage.png)
+mbrt_cli_test(cli.render_no_stage
+  NO_OUT "^stage"
+  OUT "1 geometries"
+  ARGS render ${MBRT_CLI_SCENE} --no-stage --width 8 --height 8 --spp 1 -o ${O}/no_stage.png)
 mbrt_cli_test(cli.render_scene_file
   CHECK "image ${O}/scene_file.png 16 16 nonblack"
   ARGS render ${MBRT_CLI_DATA}/cube_scene.json --width 16 --height 16 --spp 1 -o ${O}/scene_file.png)

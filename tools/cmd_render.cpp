@@ -21,6 +21,7 @@
 #include "mbrt/io/file_access.h"
 #include "mbrt/io/image.h"
 #include "mbrt/io/mesh_files.h"
+#include "mbrt/io/loaders.h"
 #include "mbrt/render.h"
 #include "output_paths.h"
 #include "progress_bar.h"
@@ -53,6 +54,7 @@ struct RenderArgs {
   std::string compare;  // a second structure, rendered beside the first
   SequenceArgs sequence;  // --frames and the camera's --eye, --target, --up, --fov
   const CLI::App* cmd = nullptr;
+  bool stage = true;    // a loaded model stands on a ground plane (addStage)
 };
 
 // What run() settles before loading: the checked options.
@@ -255,6 +257,7 @@ void runSequence(RenderArgs& args) {
   job.policy = *parseUpdatePolicy(args.sequence.update);
   job.rebuildFactor = args.sequence.rebuildFactor;
   job.threads = args.threads;
+  job.stage = args.stage;
   runFrameSequence(job, frames, out);
 }
 
@@ -272,6 +275,7 @@ void run(RenderArgs& args) {
   LoadedScene loaded = loadScene(args.scene);
   cameraOverrides(args.sequence, args.aperture, args.focus).apply(loaded.camera);
   applySequenceShutter(args, loaded, plan);
+  if (args.stage && addStage(loaded)) std::printf("stage   ground plane, sky and sun (--no-stage: none)\n");
   std::printf("scene   %s\n", describeScene(loaded).c_str());
   std::fflush(stdout);
 
@@ -360,6 +364,8 @@ void registerRenderCommand(CLI::App& app) {
                   "Also render with this structure and put both pictures side by side (heat maps on one scale)");
   addSequenceOptions(*cmd, args->sequence);
   addCameraOptions(*cmd, args->sequence);
+  cmd->add_flag("!--no-stage", args->stage,
+                "A loaded model (glTF, OBJ, PLY) without surroundings: no ground plane under it");
   cmd->add_flag("--progress", args->progress, "Show the progress bar even when stderr is not a terminal");
   cmd->callback([args] { run(*args); });
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "mbrt/io/loaders.h"
+
 namespace mbrt::tools {
 namespace {
 
@@ -72,6 +74,15 @@ RenderResult FrameRenderer::render(int64_t frame, FrameRecord& record) {
   auto start = std::chrono::steady_clock::now();
   SceneDescription next = source_.sceneOver(job_.clock.openAt(frame), job_.clock.closeAt(frame));
   job_.camera.apply(next.camera);
+  if (job_.stage) {
+    // Placed once from the timeline's first instant (the same on every MPI
+    // rank, whatever frame it renders first), so the ground does not move.
+    if (!stageBox_) {
+      const Timeline& t = source_.timeline();
+      stageBox_ = sceneBounds(*source_.sceneOver(t.start, t.start).scene);
+    }
+    addStage(next, &*stageBox_);
+  }
   record.sceneSeconds = since(start);
   update(std::move(next), record);
   RenderResult result;

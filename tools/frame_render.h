@@ -54,6 +54,7 @@ struct FrameJob {
   UpdatePolicy policy = UpdatePolicy::Auto;
   double rebuildFactor = 1.5;
   int threads = 0;
+  bool stage = true;  // a loaded model stands on a ground plane (addStage), the same in every frame
 };
 
 // What happened to one frame, for the per-frame line and the summary.
@@ -95,6 +96,7 @@ class FrameRenderer {
   std::shared_ptr<Scene> vertexOwner_;  // owns the vertices current_ points at
   std::unique_ptr<Accel> accel_;
   double lastBuildSah_ = 0.0;
+  std::optional<Box3f> stageBox_;  // the model's bounds at the timeline's start: where the stage stands
 };
 
 }  // namespace mbrt::tools

@@ -121,6 +121,27 @@ RenderResult render(const SceneDescription& scene, const Accel& accel, const Ren
 // structures' heat maps on one scale.
 Image heatImage(std::span<const float> heat, int width, int height, float scale, bool colorBar);
 
+// ---- materials (docs/renderer.md, "Materials, textures and the stage") ----
+
+// The linear colour of a texture at (u, v): the sRGB curve undone per
+// texel, then nearest or bilinear filtering between texel centres, the wrap
+// modes applied to each texel index.
+Vec3f textureColor(const Texture& texture, TexCoord uv);
+
+// The albedo at a hit, as the integrators see it: the material of the hit's
+// top-level geometry (or of its triangle, GeometrySurface::faceMaterials),
+// its diffuse colour times its texture at the texture coordinates
+// interpolated with the hit's barycentrics (u, v weigh vertices 1 and 2). A
+// description without any materials gets a fixed palette, one colour per
+// geometry, so parts are told apart.
+Vec3f albedoAt(const SceneDescription& scene, const Hit& hit);
+
+// Throws Error when the description's surfaces do not fit its scene: a
+// texture index out of range, texture coordinates whose count is not the
+// geometry's vertex count, face materials not one per triangle or out of
+// range. render() calls it first.
+void validateSurfaces(const SceneDescription& scene);
+
 // Display transform for PNG: exposure (2^ev), then a filmic curve; normals
 // and heat maps are left as they are. Returns a new linear image (the PNG
 // writer applies the sRGB curve).

@@ -15,7 +15,6 @@
 namespace mbrt::gltf {
 namespace {
 
-// Images are not needed (only geometry, animation and base colours).
 // tinygltf's file access, guarded (gltf_files.h); it never writes.
 tinygltf::FsCallbacks guardedFileCallbacks(const ExternalBufferRules& rules) {
   tinygltf::FsCallbacks fs{};
@@ -35,7 +34,15 @@ tinygltf::FsCallbacks guardedFileCallbacks(const ExternalBufferRules& rules) {
   return fs;
 }
 
-bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+// Images are decoded only when a material uses one (gltf_materials.cpp
+// reads buffer views and files there); the bytes of an embedded data URI
+// exist only now, so they are kept as they are.
+bool keepImageBytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                    const unsigned char* bytes, int size, void*) {
+  if (image->bufferView < 0 && bytes && size > 0) {
+    image->image.assign(bytes, bytes + size);
+    image->as_is = true;
+  }
   return true;
 }
 
@@ -133,7 +140,7 @@ Document readDocument(const std::string& path) {
   const ExternalBufferRules rules = externalBufferRules(path, bytes, glb);
   doc.model = std::make_shared<tinygltf::Model>();
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(&ignoreImage, nullptr);
+  loader.SetImageLoader(&keepImageBytes, nullptr);
   loader.SetFsCallbacks(guardedFileCallbacks(rules));
   std::string err, warn;
   bool ok = false;

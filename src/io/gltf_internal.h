@@ -3,10 +3,12 @@
 //   gltf_animation.cpp clips, sampler interpolation, node transforms over time
 //   gltf_deform.cpp    morph targets and skinning of one primitive
 //   gltf_steps.cpp     choosing the number of steps (automatic mode)
+//   gltf_materials.cpp base colours, base colour textures, texture coordinates
 //   gltf_loader.cpp    turning it all into a SceneDescription
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -120,5 +122,32 @@ uint32_t chooseVertexSteps(const PointsAt& eval, const StepOptions& opt, float t
 // corners) moved by the interpolated keys against `worldAt`.
 uint32_t chooseSRTSteps(const std::function<SRTKey(float)>& keyAt, const std::function<Affine3f(float)>& worldAt,
                         const std::vector<Vec3f>& points, const StepOptions& opt, float tolerance);
+
+// ---- materials ----
+
+// The materials of a document: base colour factor and base colour texture
+// (PNG or JPEG from a buffer view, a data URI or a file beside the glTF),
+// each texture decoded once, when a material first uses it.
+class Materials {
+ public:
+  explicit Materials(const Document& doc) : doc_(&doc) {}
+  // glTF material `index` (-1: the default material); its texture is added
+  // to out.textures on first use. Throws Error naming the file, the image
+  // and the problem for a missing or corrupt texture.
+  Material material(int index, SceneDescription& out);
+  // The TEXCOORD_n set the material's base colour texture reads, -1 when it
+  // has no texture.
+  int texCoordSet(int index) const;
+
+ private:
+  int32_t texture(int index, SceneDescription& out);
+  const Document* doc_;
+  std::map<int, int32_t> added_;  // glTF texture -> index into out.textures
+};
+
+// TEXCOORD_<set> of a primitive, one per vertex. Throws Error when it is
+// missing or its count is not `vertices`.
+std::vector<TexCoord> readTexCoords(const Document& doc, int mesh, int primitive, int set, size_t vertices,
+                                    const std::string& what);
 
 }  // namespace mbrt::gltf

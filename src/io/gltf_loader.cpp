@@ -8,6 +8,7 @@
 #include <map>
 
 #include "io/gltf_internal.h"
+#include "mbrt/io/loaders.h"
 
 namespace mbrt {
 namespace {
@@ -312,7 +313,6 @@ class Loader {
   }
 
   void addItem(Item& it, SceneDescription& out) {
-    const tinygltf::Model& m = *doc_.model;
     Scene& scene = *out.scene;
     std::vector<SRTKey> srt;
     if (it.motion == Motion::Rigid) {
@@ -352,13 +352,13 @@ class Loader {
       scene.addTriangleMesh(it.triangles, std::move(steps));
     }
     const uint32_t id = scene.numGeometries() - 1;
-    Material mat;
-    if (it.material >= 0 && size_t(it.material) < m.materials.size()) {
-      const auto& f = m.materials[size_t(it.material)].pbrMetallicRoughness.baseColorFactor;
-      if (f.size() >= 3) mat.diffuse = {float(f[0]), float(f[1]), float(f[2])};
-    }
     out.materials.resize(id + 1);
-    out.materials[id] = mat;
+    out.materials[id] = materials_.material(it.material, out);
+    if (const int set = materials_.texCoordSet(it.material); set >= 0) {
+      out.surfaces.resize(id + 1);
+      out.surfaces[id].texcoords = gltf::readTexCoords(doc_, it.mesh, it.primitive, set, it.data->positions.size(),
+                                                       "geometry " + std::to_string(id) + " '" + it.name + "'");
+    }
     static const char* kinds[] = {"static", "rigid (SRT instance)", "deforming"};
     note("geometry " + std::to_string(id) + " '" + it.name + "' primitive " + std::to_string(it.primitive) + ": " +
          kinds[int(it.motion)] + (it.skinned ? ", skinned" : "") + ", " + std::to_string(it.triangles.size()) +
@@ -385,11 +385,12 @@ class Loader {
       }
       note("camera " + std::to_string(m.nodes[size_t(cameraNode_)].camera) + " is not perspective; framing automatically");
     }
-    cam.keys = {frameBox(sceneBounds(*out.scene))};
+    cam.keys = {frameScene(*out.scene)};
     return cam;
   }
 
   Document doc_;
+  gltf::Materials materials_{doc_};
   GltfOptions options_;
   LoadReport* report_;
   int clip_ = -1;

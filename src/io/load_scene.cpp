@@ -18,6 +18,11 @@ std::string lowerExtension(const std::string& path) {
 SceneDescription staticMesh(const std::string& path, ObjMesh mesh, const LoadOptions& options) {
   SceneDescription out;
   out.name = path;
+  ObjSurface surface = loadObjSurface(path, mesh);  // OBJ usemtl; none for PLY
+  if (!surface.surface.faceMaterials.empty()) {
+    out.surfaces = {std::move(surface.surface)};
+    out.textures = std::move(surface.textures);
+  }
   out.scene = options.motion.empty() ? makeMovingMeshScene(std::move(mesh), {})
                                      : makeMovingMeshScene(std::move(mesh), parseProceduralMotion(options.motion));
   out.camera.keys = {frameScene(*out.scene)};
@@ -25,8 +30,6 @@ SceneDescription staticMesh(const std::string& path, ObjMesh mesh, const LoadOpt
 }
 
 }  // namespace
-
-CameraSpec frameScene(const Scene& scene) { return frameBox(sceneBounds(scene)); }
 
 SceneDescription loadSceneSpec(const std::string& spec, const LoadOptions& options, LoadReport* report) {
   const auto names = proceduralSceneNames();
@@ -42,6 +45,7 @@ SceneDescription loadSceneSpec(const std::string& spec, const LoadOptions& optio
     out.name = p.name;
     out.scene = std::move(p.scene);
     out.camera.keys = {p.camera};
+    out.bringsEnvironment = true;
     return out;
   }
   if (isObjSequenceSpec(spec)) {

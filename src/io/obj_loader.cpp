@@ -1,4 +1,6 @@
 // Wavefront OBJ: positions and polygon faces of one static mesh.
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -21,6 +23,8 @@ class ObjParser {
     }
     if (in.bad()) fail("read error");
     if (mesh_.triangles.empty()) throw Error(std::string(name_) + ": no faces (no 'f' statement with 3 or more vertices)");
+    if (!anyFaceTexcoords_) mesh_.triangleTexcoords.clear();
+    if (mesh_.materialNames.empty()) mesh_.triangleMaterials.clear();
     return std::move(mesh_);
   }
 
@@ -69,16 +73,20 @@ class ObjParser {
     return uint32_t(resolved);
   }
 
-  uint32_t parseFaceVertex(std::string_view tok) const {
+  struct FaceVertex {
+    uint32_t position, texcoord = kInvalidId;
+  };
+
+  FaceVertex parseFaceVertex(std::string_view tok) const {
     // v | v/vt | v/vt/vn | v//vn
     size_t s1 = tok.find('/');
     std::string_view v = tok.substr(0, s1);
-    const uint32_t index = parseIndex(v, mesh_.positions.size(), "vertex");
+    FaceVertex index{parseIndex(v, mesh_.positions.size(), "vertex")};
     if (s1 == std::string_view::npos) return index;
     std::string_view rest = tok.substr(s1 + 1);
     size_t s2 = rest.find('/');
     std::string_view vt = rest.substr(0, s2);
-    if (!vt.empty()) parseIndex(vt, numTexcoords_, "texture coordinate");
+    if (!vt.empty()) index.texcoord = parseIndex(vt, mesh_.texcoords.size(), "texture coordinate");
     else if (s2 == std::string_view::npos) fail("bad face vertex '" + std::string(tok) + "'");
     if (s2 != std::string_view::npos) {
       std::string_view vn = rest.substr(s2 + 1);
@@ -105,11 +113,15 @@ class ObjParser {
       mesh_.positions.push_back(p);
     } else if (keyword == "vt" || keyword == "vn") {
       int n = 0;
-      for (std::string_view tok = nextToken(rest); !tok.empty(); tok = nextToken(rest), ++n)
-        parseFloat(tok, keyword == "vt" ? "'vt' statement" : "'vn' statement");
+      std::array<float, 2> uv{0.0f, 0.0f};
+      for (std::string_view tok = nextToken(rest); !tok.empty(); tok = nextToken(rest), ++n) {
+        const float x = parseFloat(tok, keyword == "vt" ? "'vt' statement" : "'vn' statement");
+        if (n < 2) uv[size_t(n)] = x;
+      }
       if (keyword == "vt") {
         if (n < 1) fail("'vt' needs at least 1 coordinate");
-        ++numTexcoords_;
+        if (mesh_.texcoords.size() >= size_t(kInvalidId) - 1) fail("too many texture coordinates");
+        mesh_.texcoords.push_back(uv);
       } else {
         if (n != 3) fail("'vn' needs 3 coordinates, got " + std::to_string(n));
         ++numNormals_;
@@ -119,16 +131,42 @@ class ObjParser {
       for (std::string_view tok = nextToken(rest); !tok.empty(); tok = nextToken(rest))
         face_.push_back(parseFaceVertex(tok));
       if (face_.size() < 3) fail("a face needs at least 3 vertices, got " + std::to_string(face_.size()));
-      for (size_t i = 1; i + 1 < face_.size(); ++i) mesh_.triangles.push_back({face_[0], face_[i], face_[i + 1]});
+      for (size_t i = 1; i + 1 < face_.size(); ++i) {
+        const FaceVertex& a = face_[0], &b = face_[i], &c = face_[i + 1];
+        mesh_.triangles.push_back({a.position, b.position, c.position});
+        const bool textured = a.texcoord != kInvalidId && b.texcoord != kInvalidId && c.texcoord != kInvalidId;
+        anyFaceTexcoords_ |= textured;
+        mesh_.triangleTexcoords.push_back(textured ? std::array<uint32_t, 3>{a.texcoord, b.texcoord, c.texcoord}
+                                                   : std::array<uint32_t, 3>{kInvalidId, kInvalidId, kInvalidId});
+        mesh_.triangleMaterials.push_back(material_);
+      }
+    } else if (keyword == "usemtl") {
+      const std::string name = restOfLine(rest);
+      if (name.empty()) fail("'usemtl' needs a material name");
+      const auto found = std::find(mesh_.materialNames.begin(), mesh_.materialNames.end(), name);
+      material_ = uint32_t(found - mesh_.materialNames.begin());
+      if (found == mesh_.materialNames.end()) mesh_.materialNames.push_back(name);
+    } else if (keyword == "mtllib") {
+      const std::string name = restOfLine(rest);
+      if (name.empty()) fail("'mtllib' needs a file name");
+      mesh_.materialLibraries.push_back(name);
     }
-    // Everything else (o, g, s, usemtl, mtllib, l, p, vp, ...) does not matter here.
+    // Everything else (o, g, s, l, p, vp, ...) does not matter here.
+  }
+
+  // The rest of a statement without surrounding blanks (names may hold spaces).
+  static std::string restOfLine(std::string_view rest) {
+    while (!rest.empty() && isSpace(rest.front())) rest.remove_prefix(1);
+    while (!rest.empty() && isSpace(rest.back())) rest.remove_suffix(1);
+    return std::string(rest);
   }
 
   std::string_view name_;
   size_t lineNo_ = 0;
-  size_t numTexcoords_ = 0;
   size_t numNormals_ = 0;
-  std::vector<uint32_t> face_;
+  bool anyFaceTexcoords_ = false;
+  uint32_t material_ = kInvalidId;
+  std::vector<FaceVertex> face_;
   ObjMesh mesh_;
 };
 

@@ -30,7 +30,7 @@ class SceneFile {
     if (!doc.is_object()) fail("the top level must be an object");
     for (auto it = doc.begin(); it != doc.end(); ++it)
       if (it.key() != "objects" && it.key() != "camera" && it.key() != "shutter" && it.key() != "fps" &&
-          it.key() != "steps" && it.key() != "lights" && it.key() != "sky")
+          it.key() != "steps" && it.key() != "lights" && it.key() != "sky" && it.key() != "stage")
         fail("unknown key '" + it.key() + "'");
     LoadOptions opt = options_;
     if (doc.contains("shutter")) {
@@ -71,6 +71,9 @@ class SceneFile {
       }
     }
     if (doc.contains("sky")) out.skyColor = colour(doc["sky"], "sky", 1e6);
+    // "stage": true puts the objects on mbrt render's stage (addStage).
+    if (doc.contains("stage") && !doc["stage"].is_boolean()) fail("'stage' must be true or false");
+    out.bringsEnvironment = !doc.value("stage", false);
     return out;
   }
 
@@ -189,6 +192,13 @@ class SceneFile {
     const Affine3f m = xf.toAffine();
     const bool uniform = xf.scale.x == xf.scale.y && xf.scale.y == xf.scale.z;
     const Scene& s = *part.scene;
+    // The part's textures follow the ones already there.
+    const int32_t textureBase = int32_t(out.textures.size());
+    out.textures.insert(out.textures.end(), part.textures.begin(), part.textures.end());
+    auto rebase = [&](Material m) {
+      if (m.texture >= 0) m.texture += textureBase;
+      return m;
+    };
     for (uint32_t id = 0; id < s.numGeometries(); ++id) {
       const Geometry& g = s.geometry(id);
       uint32_t added = 0;
@@ -228,8 +238,17 @@ class SceneFile {
         }
       }
       out.materials.resize(added + 1);
-      out.materials[added] = part.material(id);
+      out.materials[added] = rebase(part.material(id));
       if (diffuse) out.materials[added].diffuse = *diffuse;
+      if (id < part.surfaces.size()) {
+        out.surfaces.resize(added + 1);
+        out.surfaces[added] = part.surfaces[id];
+        for (Material& m : out.surfaces[added].materials) m = rebase(m);
+        if (diffuse) {  // the object's colour replaces its file's materials
+          out.surfaces[added].faceMaterials.clear();
+          out.surfaces[added].materials.clear();
+        }
+      }
     }
   }
 

@@ -82,6 +82,7 @@ RenderResult render(const SceneDescription& scene, const Accel& accel, const Ren
                     const std::atomic<bool>* cancel, const ProgressCallback& progress) {
   checkOptions(o);
   if (!scene.scene) throw Error("render: the scene description has no scene");
+  validateSurfaces(scene);
   const auto start = std::chrono::steady_clock::now();
   const RenderCamera camera(scene, o.width, o.height, o.shutterOpen, o.shutterClose);
 

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "mbrt/ray.h"
-#include "mbrt/io/scene_description.h"
+#include "mbrt/render.h"
 
 namespace mbrt::renderer {
 
@@ -27,26 +27,13 @@ struct Surface {
   }
 };
 
-// The albedo of a top-level geometry. A description without any materials
-// gets a fixed palette, one colour per geometry id, so its parts are told
-// apart (the first, often a floor or the only mesh, stays light grey).
-inline Vec3f albedoOf(const SceneDescription& scene, uint32_t geomID) {
-  if (!scene.materials.empty()) return scene.material(geomID).diffuse;
-  static constexpr Vec3f kPalette[] = {{0.60f, 0.60f, 0.58f}, {0.75f, 0.18f, 0.12f}, {0.12f, 0.35f, 0.75f},
-                                       {0.25f, 0.55f, 0.15f}, {0.85f, 0.60f, 0.10f}, {0.50f, 0.25f, 0.60f},
-                                       {0.15f, 0.60f, 0.60f}, {0.80f, 0.45f, 0.55f}};
-  constexpr uint32_t n = sizeof(kPalette) / sizeof(kPalette[0]);
-  return geomID == kInvalidId ? kPalette[0] : kPalette[geomID % n];
-}
-
 inline Surface surfaceAt(const SceneDescription& scene, const Ray& ray, const Hit& hit) {
   Surface s;
   s.p = ray.org + ray.dir * hit.t;
   const float len2 = dot(hit.Ng, hit.Ng);
   s.n = len2 > 0.0f && std::isfinite(len2) ? hit.Ng * (1.0f / std::sqrt(len2)) : -normalize(ray.dir);
   if (dot(s.n, ray.dir) > 0.0f) s.n = -s.n;
-  // Materials belong to top-level geometries: the instance when the hit is inside one.
-  s.albedo = albedoOf(scene, hit.instID != kInvalidId ? hit.instID : hit.geomID);
+  s.albedo = albedoAt(scene, hit);
   return s;
 }
 

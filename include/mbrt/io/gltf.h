@@ -42,7 +42,8 @@ struct LoadReport {
 // Deforming meshes (skins, animated morph weights) become triangle meshes
 // with vertex steps; meshes under rigidly animated nodes become instances
 // with SRT keys; static ones static meshes in world space. Materials come
-// from baseColorFactor; the camera from the first camera node (else the
+// from baseColorFactor and baseColorTexture (with TEXCOORD_n in
+// SceneDescription::surfaces); the camera from the first camera node (else the
 // scene is framed automatically). Throws Error naming the file and the
 // problem (bad or truncated file, bad accessors, NaN data, unknown clip,
 // shutter outside the clip).

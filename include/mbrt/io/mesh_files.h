@@ -4,31 +4,73 @@
 // formats are described in docs/input.md.
 #pragma once
 
+#include <array>
 #include <istream>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "mbrt/io/scene_description.h"
 #include "mbrt/scene.h"
 
 namespace mbrt {
 
 // Geometry read from an OBJ file: positions and triangles (polygons fanned
-// (a,b,c), (a,c,d), ...). Texture coordinates and normals are checked
-// (their indices must exist) but not kept.
+// (a,b,c), (a,c,d), ...), texture coordinates and material names. Normals
+// are checked (their indices must exist) but not kept.
 struct ObjMesh {
   std::vector<Vec3f> positions;
   std::vector<Triangle> triangles;
+  // `vt` statements (u, v as in the file: v = 0 at the image's bottom) and,
+  // per triangle, the `vt` of its corners (kInvalidId where a face has
+  // none); triangleTexcoords is empty when no face has any.
+  std::vector<std::array<float, 2>> texcoords;
+  std::vector<std::array<uint32_t, 3>> triangleTexcoords;
+  // `usemtl` names in order of first use and, per triangle, the one in
+  // effect (kInvalidId before the first); triangleMaterials is empty when
+  // there is no usemtl.
+  std::vector<std::string> materialNames;
+  std::vector<uint32_t> triangleMaterials;
+  std::vector<std::string> materialLibraries;  // `mtllib` files, relative to the OBJ's folder
 };
 
-// Reads `v` and `f`/`fo` statements with vertex references v, v/vt,
-// v/vt/vn or v//vn, positive (1-based) or negative (relative) indices.
-// Other statements (vt, vn, o, g, s, usemtl, mtllib, l, ...) are skipped.
+// Reads `v`, `vt`, `f`/`fo`, `usemtl` and `mtllib` statements; faces with
+// vertex references v, v/vt, v/vt/vn or v//vn, positive (1-based) or
+// negative (relative) indices. Other statements (vn, o, g, s, l, ...) are
+// skipped.
 // Throws Error as "name:line: what" for bad numbers, indices out of range,
 // faces with fewer than 3 vertices, and for a file without faces.
 ObjMesh readObj(std::istream& in, std::string_view name);
 ObjMesh readObj(const std::string& path);
+
+// ---- OBJ materials (.mtl) ----
+
+struct ObjMaterial {
+  std::string name;
+  Vec3f diffuse{0.7f, 0.7f, 0.7f};  // Kd
+  std::string diffuseMap;           // map_Kd, resolved against the .mtl's folder; empty: none
+};
+
+// Reads `newmtl`, `Kd` and `map_Kd` (options such as -s or -o skipped, the
+// rest of the line is the file); other statements are skipped. Throws Error
+// as "name:line: what" for bad numbers, Kd outside [0,1] or a statement
+// before the first newmtl.
+std::vector<ObjMaterial> readMtl(std::istream& in, std::string_view name, const std::string& folder);
+std::vector<ObjMaterial> readMtl(const std::string& path);
+
+// The render-side data of geometry 0 of a scene made from `mesh`: per
+// triangle its usemtl material (Kd, and map_Kd as a texture), from the
+// mtllib files beside `objPath`. When a material has a texture, vertices
+// are split in place so that every (v, vt) pair of the faces becomes a
+// vertex with its texture coordinates (v flipped to glTF's convention).
+// Without usemtl: an empty surface. Throws Error naming the file for a
+// missing or bad .mtl or texture and for a usemtl no mtllib defines.
+struct ObjSurface {
+  GeometrySurface surface;
+  std::vector<Texture> textures;
+};
+ObjSurface loadObjSurface(const std::string& objPath, ObjMesh& mesh);
 
 // A scene with the file's triangles as one static mesh (S = 1).
 std::shared_ptr<Scene> loadObjScene(const std::string& path);
