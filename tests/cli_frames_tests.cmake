@@ -37,7 +37,7 @@ mbrt_cli_test(cli.frames_timing_sequence
   SETUP "rm -rf ${F}_seq && mkdir -p ${F}_seq"
   OUT "2 keys at 4 fps"
   CHECK "close ${F}_seq/k_0.png ${F}_seq/one.png"
-  SHELL "$MBRT render ${KEYS} --fps 4 --frames 0 --width 24 --height 16 --spp 4 --integrator normals -o ${F}_seq/k_%d.png && $MBRT render ${KEYS} --fps 4 --shutter 0,0.125 --width 24 --height 16 --spp 4 --integrator normals -o ${F}_seq/one.png && ! $MBRT render ${KEYS} --fps 4 --shutter 0.5,0.75 -o ${F}_seq/late.png")
+  SHELL "$MBRT render ${KEYS} --fps 4 --frames 0 --width 24 --height 16 --spp 4 --integrator normals --no-stage -o ${F}_seq/k_%d.png && $MBRT render ${KEYS} --fps 4 --shutter 0,0.125 --width 24 --height 16 --spp 4 --integrator normals --no-stage -o ${F}_seq/one.png && ! $MBRT render ${KEYS} --fps 4 --shutter 0.5,0.75 -o ${F}_seq/late.png")
 mbrt_cli_test(cli.frames_timing_builtin
   SETUP "rm -rf ${F}_time && mkdir -p ${F}_time"
   CHECK "close ${F}_time/s_6.png ${F}_time/one.png"
