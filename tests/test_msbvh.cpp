@@ -111,7 +111,7 @@ CoverageReport checkCoverage(const Scene& scene, int branching, const std::vecto
   detail::BuildBudget budget;
   detail::SceneContext ctx(scene, o, budget);
   auto structure = detail::makeStructure(ctx);
-  const auto& inspect = dynamic_cast<const detail::BvhInspect&>(*structure);
+  const detail::Inspect& inspect = detail::inspect(*structure);
   struct Lane {
     std::function<Box3f(float)> box;
     const detail::PrimRef* begin;
@@ -276,7 +276,7 @@ TEST(Msbvh, KeyCountIsAPowerOfTwoCoveringEveryMesh) {
     EXPECT_EQ(n & (n - 1), 0u) << steps;
     EXPECT_GE(n, std::min(detail::kMaxKeySegments, std::max(1u, steps - 1))) << steps;
     auto s = detail::makeStructure(ctx);
-    const uint32_t kept = detail::msbvhKeySegments(*s);
+    const uint32_t kept = detail::statsOf<detail::MsbvhStats>(*s).keySegments;
     EXPECT_EQ(kept & (kept - 1), 0u) << steps;
     EXPECT_LE(kept, n) << steps;
   }
@@ -464,7 +464,7 @@ TEST(Msbvh, KeysAreKeptOnlyWhereTheMotionCurves) {
     detail::SceneContext ctx(scene, o, budget);
     EXPECT_EQ(detail::chooseKeySegments(ctx), 8u);
     auto s = detail::makeStructure(ctx);
-    const uint32_t kept = detail::msbvhKeySegments(*s);
+    const uint32_t kept = detail::statsOf<detail::MsbvhStats>(*s).keySegments;
     if (motion == 2) EXPECT_LT(kept, 8u) << "the wobble's steps fall between keys";
     else EXPECT_EQ(kept, turn ? 8u : 1u) << "motion " << motion;
 

@@ -67,7 +67,7 @@ Costs rootCosts(const Scene& scene) {
     refs.push_back(r);
   }
   const detail::RefSetInfo info = detail::summarize(refs);
-  const detail::ObjectSplit object = detail::findObjectSplit(refs, info, 32, {0.0f, 1.0f});
+  const detail::ObjectSplit object = detail::findObjectSplit(refs, info, detail::adaptiveObjectBins(32, refs.size()));
   Costs c;
   c.leaf = detail::mbsahArea(info.bounds) * float(info.active);
   c.object = object.cost;
@@ -88,7 +88,7 @@ std::vector<TimeRange> laneRanges(const Scene& scene, uint32_t geomID) {
   detail::SceneContext ctx(scene, o, budget);
   auto s = detail::makeStructure(ctx);
   std::vector<TimeRange> all;
-  dynamic_cast<const detail::BvhInspect&>(*s).forEachLane([&](const detail::LaneView& v) {
+  detail::inspect(*s).forEachLane([&](const detail::LaneView& v) {
     for (const detail::PrimRef& p : v.below)
       if (p.geomID == geomID) {
         all.push_back(v.range);
@@ -201,7 +201,7 @@ TEST(Stbvh, DeterministicWithTemporalSplits) {
         detail::BuildBudget budget;
         detail::SceneContext ctx(*ps.scene, o, budget);
         auto s = detail::makeStructure(ctx);
-        const auto& inspect = dynamic_cast<const detail::BvhInspect&>(*s);
+        const detail::Inspect& inspect = detail::inspect(*s);
         bytes[t] = inspect.bytes();
         AccelStats st;
         s->fillStats(st);

@@ -56,9 +56,8 @@ Box3f KeyBounder::clip(PrimRef prim, const Box3f& box) const {
   switch (g.type()) {
     case GeometryType::Triangles: {
       const Triangle& t = g.triangles()[prim.primID];
-      return clipTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1), g.vertexAt(kBuildTime, t.v2),
-                          box)
-          .bounds();
+      return clipTriangleBounds(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1),
+                                g.vertexAt(kBuildTime, t.v2), box);
     }
     case GeometryType::Segments: {
       const Segment& s = g.segments()[prim.primID];
