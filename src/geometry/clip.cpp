@@ -93,12 +93,44 @@ Box3f clipTriangleBounds(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
   return clipToBox<false>(triangle(v0, v1, v2), box).bounds();
 }
 
+namespace {
+
+// Splits `in` at the plane x[axis] = value into the parts below and above
+// it in one pass; one crossing point per edge, from its end below the
+// plane (bounds for binning: the caller widens them). Parallel cuts of a
+// triangle clipped to a box keep it within kMaxVertices (it stays the
+// triangle clipped by six planes); should round-off make a side longer,
+// its extra vertices are left out (the bounds are for binning only).
+void splitAtPlane(const ClippedPolygon& in, int axis, float value, ClippedPolygon& below, ClippedPolygon& above) {
+  below.count = above.count = 0;
+  auto push = [](ClippedPolygon& p, const Vec3f& v) {
+    if (p.count < ClippedPolygon::kMaxVertices) p.pos[p.count++] = v;
+  };
+  for (int i = 0, prev = in.count - 1; i < in.count; prev = i++) {
+    const Vec3f &a = in.pos[prev], &b = in.pos[i];
+    const float xa = a[axis], xb = b[axis];
+    // The crossing of edge (prev, i) first, then vertex i: each side's
+    // vertices stay in polygon order.
+    if ((xa < value && xb > value) || (xa > value && xb < value)) {
+      const Vec3f &p = xa < value ? a : b, &q = xa < value ? b : a;
+      const float s = std::clamp((value - p[axis]) / (q[axis] - p[axis]), 0.0f, 1.0f);
+      Vec3f c = lerp(p, q, s);
+      c[axis] = value;
+      push(below, c);
+      push(above, c);
+    }
+    if (xb <= value) push(below, b);
+    if (xb >= value) push(above, b);
+  }
+}
+
+}  // namespace
+
 void chopTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box, int axis, std::span<const float> planes,
                   Box3f* pieces) {
   ClippedPolygon rest = clipToBox<false>(triangle(v0, v1, v2), box), left, right;
   for (size_t k = 0; k < planes.size(); ++k) {
-    clipPlane<false>(rest, axis, planes[k], -1, left);
-    clipPlane<false>(rest, axis, planes[k], +1, right);
+    splitAtPlane(rest, axis, planes[k], left, right);
     pieces[k] = left.bounds();
     rest = right;
   }
