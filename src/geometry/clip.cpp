@@ -93,48 +93,28 @@ Box3f clipTriangleBounds(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
   return clipToBox<false>(triangle(v0, v1, v2), box).bounds();
 }
 
-namespace {
-
-// Splits `in` at the plane x[axis] = value into the parts below and above
-// it in one pass; one crossing point per edge, from its end below the
-// plane (bounds for binning: the caller widens them). Parallel cuts of a
-// triangle clipped to a box keep it within kMaxVertices (it stays the
-// triangle clipped by six planes); should round-off make a side longer,
-// its extra vertices are left out (the bounds are for binning only).
-void splitAtPlane(const ClippedPolygon& in, int axis, float value, ClippedPolygon& below, ClippedPolygon& above) {
-  below.count = above.count = 0;
-  auto push = [](ClippedPolygon& p, const Vec3f& v) {
-    if (p.count < ClippedPolygon::kMaxVertices) p.pos[p.count++] = v;
-  };
-  for (int i = 0, prev = in.count - 1; i < in.count; prev = i++) {
-    const Vec3f &a = in.pos[prev], &b = in.pos[i];
-    const float xa = a[axis], xb = b[axis];
-    // The crossing of edge (prev, i) first, then vertex i: each side's
-    // vertices stay in polygon order.
-    if ((xa < value && xb > value) || (xa > value && xb < value)) {
-      const Vec3f &p = xa < value ? a : b, &q = xa < value ? b : a;
-      const float s = std::clamp((value - p[axis]) / (q[axis] - p[axis]), 0.0f, 1.0f);
-      Vec3f c = lerp(p, q, s);
-      c[axis] = value;
-      push(below, c);
-      push(above, c);
-    }
-    if (xb <= value) push(below, b);
-    if (xb >= value) push(above, b);
-  }
-}
-
-}  // namespace
-
 void chopTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box, int axis, std::span<const float> planes,
                   Box3f* pieces) {
-  ClippedPolygon rest = clipToBox<false>(triangle(v0, v1, v2), box), left, right;
+  const Vec3f v[3] = {v0, v1, v2};
+  Box3f rest = box;
   for (size_t k = 0; k < planes.size(); ++k) {
-    splitAtPlane(rest, axis, planes[k], left, right);
-    pieces[k] = left.bounds();
-    rest = right;
+    const float p = planes[k];
+    Box3f below, above;
+    for (int e = 0; e < 3; ++e) {
+      const Vec3f &a = v[e], &b = v[e == 2 ? 0 : e + 1];
+      if (a[axis] <= p) below.extend(a);
+      if (a[axis] >= p) above.extend(a);
+      if ((a[axis] < p && b[axis] > p) || (a[axis] > p && b[axis] < p)) {
+        Vec3f c = lerp(a, b, std::clamp((p - a[axis]) / (b[axis] - a[axis]), 0.0f, 1.0f));
+        c[axis] = p;
+        below.extend(c);
+        above.extend(c);
+      }
+    }
+    pieces[k] = intersect(below, rest);
+    rest = intersect(above, rest);
   }
-  pieces[planes.size()] = rest.bounds();
+  pieces[planes.size()] = rest;
 }
 
 bool clipSegment(Vec3f a, Vec3f b, const Box3f& box, float& s0, float& s1) {

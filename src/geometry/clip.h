@@ -34,11 +34,13 @@ ClippedPolygon clipTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box);
 // clipTriangle(v0, v1, v2, box).bounds(), without the barycentrics.
 Box3f clipTriangleBounds(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box);
 
-// The bounds of the part of triangle (v0, v1, v2) inside `box` between
+// Bounds of the part of triangle (v0, v1, v2) inside `box` between
 // consecutive planes x[axis] = planes[k] (increasing): pieces[0] below
-// planes[0], ..., pieces[planes.size()] above the last. The polygon is
-// clipped to `box` once and then cut plane by plane (SBVH §4.2 chopping),
-// so each plane costs one pass over the polygon.
+// planes[0], ..., pieces[planes.size()] above the last; conservative, not
+// tight. Each plane splits the triangle's bounds by its vertices and edge
+// crossings on either side, intersected with `box` narrowed by the planes
+// before (SBVH §4.2 chopping, as Embree's spatial binning splits
+// references): three edges per plane, no polygon.
 void chopTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box, int axis, std::span<const float> planes,
                   Box3f* pieces);
 

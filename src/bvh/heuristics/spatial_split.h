@@ -33,9 +33,9 @@ struct RefClipper {
   virtual Box3f clip(PrimRef prim, const Box3f& box) const = 0;
   // The bounds of the primitive's parts inside `box` between consecutive
   // planes x[axis] = planes[k] (increasing): planes.size() + 1 pieces, each
-  // as clip() of its slab would bound it (up to clipping round-off). By
-  // default one clip() per slab; clippers that can cut a clipped piece
-  // plane by plane do so.
+  // containing what clip() of its slab gives (binning bounds: they may be
+  // looser). By default one clip() per slab; clippers that can split a
+  // primitive plane by plane do so.
   virtual void chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes, Box3f* pieces) const;
 };
 
