@@ -63,7 +63,8 @@ ObjectSplit findObjectSplit(std::span<const SplitRef> refs, const BoxSetInfo& in
 // Moves the left side to the front (Hoare partition); returns its size.
 // `sides` gets the summaries of the left and right references (as summarize
 // gives them). `along0` and `along1` (empty, or as long as `refs`) get the
-// same moves.
+// same moves. From 32768 references on, in parallel over fixed blocks with
+// the same moves (the result never depends on the node size or threads).
 size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSetInfo sides[2],
                        std::span<BuildRef> along0 = {}, std::span<BuildRef> along1 = {});
 size_t partitionObject(std::span<SplitRef> refs, const ObjectSplit& split, BoxSetInfo sides[2]);

@@ -172,7 +172,8 @@ SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeB
   }
   SpatialSplit best;
   for (int axis = 0; axis < 3; ++axis)
-    if (axes[axis].valid()) sweepSpatialAxis(bins.data() + size_t(axis) * size_t(numBins), axes[axis], axis, refs.size(), best);
+    if (axes[axis].valid())
+      sweepSpatialAxis(bins.data() + size_t(axis) * size_t(numBins), axes[axis], axis, refs.size(), best);
   return best;
 }
 
