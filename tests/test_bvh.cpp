@@ -206,8 +206,7 @@ TEST(Bvh, BoundsAreConservative) {
         detail::BuildBudget budget;
         detail::SceneContext ctx(*ts.scene, o, budget, detail::makeStructure);
         auto structure = detail::makeStructure(ctx);
-        const auto* inspect = dynamic_cast<const detail::BvhInspect*>(structure.get());
-        ASSERT_NE(inspect, nullptr);
+        const detail::Inspect* inspect = &detail::inspect(*structure);
         std::vector<float> times = ts.specialTimes;
         for (int k = 0; k <= 16; ++k) times.push_back(float(k) / 16.0f);
         times.push_back(o.frozenTime);
@@ -258,7 +257,7 @@ TEST(Bvh, DeterministicWhateverTheThreadCount) {
           detail::BuildBudget budget;
           detail::SceneContext ctx(scene, o, budget);
           auto s = detail::makeStructure(ctx);
-          bytes[t] = dynamic_cast<const detail::BvhInspect&>(*s).bytes();
+          bytes[t] = detail::inspect(*s).bytes();
           AccelStats st;
           s->fillStats(st);
           sah[t] = st.sahCost;

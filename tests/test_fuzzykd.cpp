@@ -14,6 +14,7 @@
 #include "fuzzykd/fuzzykd.h"
 #include "fuzzykd/top_tree.h"
 #include "accel/structure_factory.h"
+#include "core/inspect.h"
 #include "scene/scene_context.h"
 #include "scene/primitive_bounds.h"
 #include "kd/kd_builder.h"
@@ -144,7 +145,7 @@ TEST(FuzzyKd, FastTurningMeshAgreesWithTheOracleBetweenKeys) {
   o.kind = AccelKind::FuzzyKd;
   detail::SceneContext ctx(*scene, o, budget);
   const auto st = detail::makeStructure(ctx);
-  const auto& s = dynamic_cast<const detail::FuzzyKdInspect&>(*st).fuzzyStats();
+  const auto& s = detail::statsOf<detail::FuzzyKdStats>(*st);
   std::printf("[ info ] fast turn: %zu clusters, %zu fallback, %u sub-samples, %zu world prims\n", s.clusters,
               s.fallbackClusters, s.maxSubdivisions, s.worldPrims);
   EXPECT_GE(s.clusters, 1u);
@@ -185,7 +186,7 @@ Table1 table1(const Scene& scene, const char* name, size_t raysPerFrame, size_t 
   o.kind = AccelKind::FuzzyKd;
   detail::SceneContext ctx(scene, o, budget);
   const auto st = detail::makeStructure(ctx);
-  const auto& fs = dynamic_cast<const detail::FuzzyKdInspect&>(*st).fuzzyStats();
+  const auto& fs = detail::statsOf<detail::FuzzyKdStats>(*st);
   t.triangles = ctx.numPrimitives();
   t.clusters = fs.clusters;
   t.rms = fs.rmsResidual;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <random>
 
+#include "core/inspect.h"
 #include "kd/mbkd.h"
 #include "scene/scene_context.h"
 #include "kd/kd_builder.h"
@@ -81,7 +82,7 @@ TEST(Mbkd, StaticKdTreeMatchesBrute) {
   o.kind = AccelKind::Mbkd;
   detail::SceneContext ctx(scene, o, budget);
   auto st = detail::makeMbkd(ctx);
-  EXPECT_EQ(dynamic_cast<const detail::KdInspect&>(*st).buildStats().duplicatedRefs, 0u);
+  EXPECT_EQ(detail::statsOf<detail::KdBuildStats>(*st).duplicatedRefs, 0u);
   const AccelStats s = kd->stats();
   EXPECT_GT(s.innerNodes, 100u);
   EXPECT_GT(s.sahCost, 0.0);
@@ -130,10 +131,9 @@ TEST(Mbkd, FastTriangleAcrossTheSceneIsNeverMissed) {
     detail::SceneContext ctx(scene, o, *ctxBudget);
     auto st = detail::makeMbkd(ctx);
     size_t leavesWithFast = 0;
-    dynamic_cast<const detail::KdInspect&>(*st).forEachLeaf(
-        [&](const Box3f&, const detail::PrimRef* prims, std::span<const detail::KdLeafRef> refs) {
-          for (const auto& r : refs) leavesWithFast += prims[r.prim].geomID == fast;
-        });
+    detail::inspect(*st).forEachLane([&](const detail::LaneView& leaf) {
+      for (const detail::PrimRef& p : leaf.below) leavesWithFast += p.geomID == fast;
+    });
     EXPECT_GT(leavesWithFast, 20u);
   }
 }
@@ -151,15 +151,18 @@ TEST(Mbkd, LeafTimeIntervalsAreConservative) {
   detail::BuildBudget budget;
   detail::SceneContext ctx(*scene, o, budget);
   auto st = detail::makeMbkd(ctx);
-  const auto& inspect = dynamic_cast<const detail::KdInspect&>(*st);
-  EXPECT_GT(inspect.buildStats().duplicatedRefs, 0u);
+  const detail::Inspect& inspect = detail::inspect(*st);
+  EXPECT_GT(detail::statsOf<detail::KdBuildStats>(inspect).duplicatedRefs, 0u);
   size_t checks = 0, failures = 0;
   std::string first;
-  inspect.forEachLeaf([&](const Box3f& cell, const detail::PrimRef*, std::span<const detail::KdLeafRef> refs) {
-    // prim index -> its intervals in this leaf (a primitive that leaves and
+  inspect.forEachLane([&](const detail::LaneView& leaf) {
+    const Box3f cell = leaf.box(0.5f);
+    ASSERT_EQ(leaf.times.size(), leaf.below.size());
+    // primitive -> its intervals in this leaf (a primitive that leaves and
     // comes back has several)
-    std::multimap<uint32_t, std::pair<float, float>> in;
-    for (const auto& r : refs) in.insert({r.prim, {r.t0, r.t1}});
+    std::multimap<std::pair<uint32_t, uint32_t>, std::pair<float, float>> in;
+    for (size_t k = 0; k < leaf.below.size(); ++k)
+      in.insert({{leaf.below[k].geomID, leaf.below[k].primID}, {leaf.times[k].lo, leaf.times[k].hi}});
     uint32_t index = 0;
     for (uint32_t gid = 0; gid < scene->numGeometries(); ++gid) {
       const Geometry& g = scene->geometry(gid);
@@ -173,7 +176,7 @@ TEST(Mbkd, LeafTimeIntervalsAreConservative) {
           b.extend(Box3f(g.vertexAt(t, tri.v2)));
           if (intersect(b, cell).empty()) continue;
           ++checks;
-          const auto range = in.equal_range(index);
+          const auto range = in.equal_range({gid, p});
           bool covered = false;
           for (auto it = range.first; it != range.second; ++it) covered |= t >= it->second.first && t <= it->second.second;
           if (!covered && failures++ == 0)
@@ -196,7 +199,7 @@ TEST(Mbkd, BuildStatisticsLikeTable2) {
     detail::BuildBudget budget;
     detail::SceneContext ctx(*ps.scene, o, budget);
     auto st = detail::makeMbkd(ctx);
-    const auto& s = dynamic_cast<const detail::KdInspect&>(*st).buildStats();
+    const auto& s = detail::statsOf<detail::KdBuildStats>(*st);
     const size_t refs = s.normalRefs + s.duplicatedRefs;
     AccelStats as;
     st->fillStats(as);

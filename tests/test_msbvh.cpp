@@ -8,6 +8,8 @@
 #include <map>
 #include <random>
 
+#include <tbb/task_arena.h>
+
 #include "bvh/inspect.h"
 #include "accel/structure_factory.h"
 #include "scene/scene_context.h"
@@ -111,7 +113,7 @@ CoverageReport checkCoverage(const Scene& scene, int branching, const std::vecto
   detail::BuildBudget budget;
   detail::SceneContext ctx(scene, o, budget);
   auto structure = detail::makeStructure(ctx);
-  const auto& inspect = dynamic_cast<const detail::BvhInspect&>(*structure);
+  const detail::Inspect& inspect = detail::inspect(*structure);
   struct Lane {
     std::function<Box3f(float)> box;
     const detail::PrimRef* begin;
@@ -276,7 +278,7 @@ TEST(Msbvh, KeyCountIsAPowerOfTwoCoveringEveryMesh) {
     EXPECT_EQ(n & (n - 1), 0u) << steps;
     EXPECT_GE(n, std::min(detail::kMaxKeySegments, std::max(1u, steps - 1))) << steps;
     auto s = detail::makeStructure(ctx);
-    const uint32_t kept = detail::msbvhKeySegments(*s);
+    const uint32_t kept = detail::statsOf<detail::MsbvhStats>(*s).keySegments;
     EXPECT_EQ(kept & (kept - 1), 0u) << steps;
     EXPECT_LE(kept, n) << steps;
   }
@@ -350,6 +352,34 @@ TEST(Msbvh, SpatialSplitsCanBeDisabledByTheirCap) {
   EXPECT_GT(s.references, scene.numPrimitives());
   EXPECT_LE(s.references, size_t(1.31 * double(scene.numPrimitives())) + 1);
   expectOracle(scene, *accel, randomRays(rng, 2000, {0.0f, 0.5f, 1.0f}), "long triangles");
+}
+
+// The build is the same whatever the thread count: enough references for
+// the parallel partition (32768) and parallel spatial binning (4096), with
+// overlapping triangles so that spatial splits are made.
+TEST(Msbvh, DeterministicWhateverTheThreadCount) {
+  std::mt19937 rng(29);
+  Scene scene;
+  test::addRandomMovingTriangles(scene, rng, uint32_t(test::scaled(34000, 5000)), 3, 0.15f, 0.05f);
+  std::vector<uint8_t> bytes[2];
+  size_t refs[2];
+  for (int t = 0; t < 2; ++t) {
+    tbb::task_arena arena(t + 1);
+    arena.execute([&] {
+      BuildOptions o;
+      o.kind = AccelKind::Msbvh;
+      detail::BuildBudget budget;
+      detail::SceneContext ctx(scene, o, budget);
+      auto s = detail::makeStructure(ctx);
+      bytes[t] = detail::inspect(*s).bytes();
+      AccelStats st;
+      s->fillStats(st);
+      refs[t] = st.references;
+    });
+  }
+  EXPECT_GT(refs[0], scene.numPrimitives());  // spatial splits were made
+  EXPECT_EQ(refs[0], refs[1]);
+  EXPECT_EQ(bytes[0], bytes[1]);
 }
 
 // §5: an animation over frames; each frame's shutter starts where the last
@@ -464,7 +494,7 @@ TEST(Msbvh, KeysAreKeptOnlyWhereTheMotionCurves) {
     detail::SceneContext ctx(scene, o, budget);
     EXPECT_EQ(detail::chooseKeySegments(ctx), 8u);
     auto s = detail::makeStructure(ctx);
-    const uint32_t kept = detail::msbvhKeySegments(*s);
+    const uint32_t kept = detail::statsOf<detail::MsbvhStats>(*s).keySegments;
     if (motion == 2) EXPECT_LT(kept, 8u) << "the wobble's steps fall between keys";
     else EXPECT_EQ(kept, turn ? 8u : 1u) << "motion " << motion;
 

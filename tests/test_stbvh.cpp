@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <random>
 
 #include "bvh/heuristics/binned_sah.h"
 #include "bvh/kinds/bvh_structure.h"
@@ -67,7 +68,7 @@ Costs rootCosts(const Scene& scene) {
     refs.push_back(r);
   }
   const detail::RefSetInfo info = detail::summarize(refs);
-  const detail::ObjectSplit object = detail::findObjectSplit(refs, info, 32, {0.0f, 1.0f});
+  const detail::ObjectSplit object = detail::findObjectSplit(refs, info, detail::adaptiveObjectBins(32, refs.size()));
   Costs c;
   c.leaf = detail::mbsahArea(info.bounds) * float(info.active);
   c.object = object.cost;
@@ -88,7 +89,7 @@ std::vector<TimeRange> laneRanges(const Scene& scene, uint32_t geomID) {
   detail::SceneContext ctx(scene, o, budget);
   auto s = detail::makeStructure(ctx);
   std::vector<TimeRange> all;
-  dynamic_cast<const detail::BvhInspect&>(*s).forEachLane([&](const detail::LaneView& v) {
+  detail::inspect(*s).forEachLane([&](const detail::LaneView& v) {
     for (const detail::PrimRef& p : v.below)
       if (p.geomID == geomID) {
         all.push_back(v.range);
@@ -201,7 +202,7 @@ TEST(Stbvh, DeterministicWithTemporalSplits) {
         detail::BuildBudget budget;
         detail::SceneContext ctx(*ps.scene, o, budget);
         auto s = detail::makeStructure(ctx);
-        const auto& inspect = dynamic_cast<const detail::BvhInspect&>(*s);
+        const detail::Inspect& inspect = detail::inspect(*s);
         bytes[t] = inspect.bytes();
         AccelStats st;
         s->fillStats(st);
@@ -290,4 +291,49 @@ TEST(Stbvh, StraightMotionKeepsLeavesWhole) {
     if (curved) EXPECT_GT(st.references, 1u);
     else EXPECT_EQ(st.references, 1u);
   }
+}
+
+// The parallel partition of a large node (32768 references and more) makes
+// exactly the moves of the serial Hoare partition (the k-th reference going
+// right from the front swapped with the k-th going left from the back), so
+// trees do not change with the node size at which it takes over; the
+// references moved along (a rejected temporal split's) follow.
+TEST(BinnedSah, ParallelPartitionMakesTheSerialMoves) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<detail::BuildRef> refs(50000);
+  for (size_t i = 0; i < refs.size(); ++i) {
+    const Vec3f c{u(rng), u(rng), u(rng)};
+    refs[i].bounds = LBounds(Box3f(c - Vec3f(0.01f), c + Vec3f(0.01f)), Box3f(c, c + Vec3f(0.02f)));
+    refs[i].prim = {0, uint32_t(i)};
+  }
+  const detail::RefSetInfo info = detail::summarize(refs);
+  const detail::ObjectSplit split = detail::findObjectSplit(refs, info, 32);
+  ASSERT_TRUE(split.valid());
+  // The serial Hoare partition, by hand.
+  std::vector<detail::BuildRef> expected = refs;
+  auto goesLeft = [&](const detail::BuildRef& r) { return split.binAt(r.centroid()[split.axis]) < split.bin; };
+  size_t i = 0, j = expected.size();
+  while (true) {
+    while (i < j && goesLeft(expected[i])) ++i;
+    while (i < j && !goesLeft(expected[j - 1])) --j;
+    if (i == j) break;
+    std::swap(expected[i++], expected[--j]);
+  }
+  std::vector<detail::BuildRef> along = refs;
+  detail::RefSetInfo sides[2];
+  const size_t mid = detail::partitionObject(refs, split, sides, along);
+  EXPECT_EQ(mid, i);
+  size_t moved = 0;
+  for (size_t k = 0; k < refs.size(); ++k) {
+    EXPECT_EQ(refs[k].prim.primID, expected[k].prim.primID) << k;
+    EXPECT_EQ(along[k].prim.primID, expected[k].prim.primID) << k;
+    moved += refs[k].prim.primID != k;
+    if (::testing::Test::HasFailure()) break;
+  }
+  EXPECT_GT(moved, refs.size() / 4);
+  const detail::RefSetInfo left = detail::summarize(std::span<const detail::BuildRef>(refs).first(mid));
+  EXPECT_EQ(sides[0].active, left.active);
+  EXPECT_EQ(sides[0].bounds.b0.lower.x, left.bounds.b0.lower.x);
+  EXPECT_EQ(sides[1].active, refs.size() - mid);
 }

@@ -1,5 +1,6 @@
-// Debug access to a built BVH for tests: every lane with its box at a time
-// and the references below it, and the raw bytes of the trees.
+// How the BVH family and msbvh answer core/inspect.h: walks over every
+// lane with its time range and the references below it, and the raw bytes
+// of the trees.
 #pragma once
 
 #include <cstring>
@@ -10,21 +11,9 @@
 #include <vector>
 
 #include "bvh/nodes/wide_bvh.h"
+#include "core/inspect.h"
 
 namespace mbrt::detail {
-
-struct LaneView {
-  TimeRange range;                             // global times the lane serves
-  std::function<Box3f(float globalTime)> box;  // as the node stores it (decoded)
-  std::span<const PrimRef> below;              // references under the lane
-};
-
-class BvhInspect {
- public:
-  virtual ~BvhInspect() = default;
-  virtual void forEachLane(const std::function<void(const LaneView&)>& fn) const = 0;
-  virtual std::vector<uint8_t> bytes() const = 0;
-};
 
 // The time range lane `lane` of `node` serves, inside the node's `range`
 // (tree parameter; the stored inclusive end is mapped back).

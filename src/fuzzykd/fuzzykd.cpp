@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/inspect.h"
 #include "core/traced_structure.h"
 #include "fuzzykd/fuzzykd_stats.h"
 #include "fuzzykd/fuzzykd_trees.h"
@@ -14,7 +15,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-class FuzzyKd final : public TracedStructure<FuzzyKd>, public FuzzyKdInspect {
+class FuzzyKd final : public TracedStructure<FuzzyKd>, public Inspect {
  public:
   explicit FuzzyKd(const SceneContext& ctx) : ctx_(ctx) {
     const auto t0 = Clock::now();
@@ -44,7 +45,7 @@ class FuzzyKd final : public TracedStructure<FuzzyKd>, public FuzzyKdInspect {
 
   void fillStats(AccelStats& s) const override { fillFuzzyStats(trees_, stats_, sahCost_, s); }
 
-  const FuzzyKdStats& fuzzyStats() const override { return stats_; }
+  std::any buildStats() const override { return &stats_; }
   uint32_t clusterOf(PrimRef p) const override {
     if (p.geomID >= clusterOfPrim_.size() || p.primID >= clusterOfPrim_[p.geomID].size()) return ~0u;
     return clusterOfPrim_[p.geomID][p.primID];

@@ -24,6 +24,7 @@ namespace mbrt::detail {
 
 std::unique_ptr<Structure> makeFuzzyKd(const SceneContext& context);
 
+// Its build figures, through core/inspect.h (statsOf<FuzzyKdStats>).
 struct FuzzyKdStats {
   size_t decomposedMeshes = 0;
   size_t clusters = 0;          // clusters with a fuzzy tree
@@ -37,14 +38,6 @@ struct FuzzyKdStats {
   uint32_t maxSubdivisions = 0;
   double rmsResidual = 0;       // of the decomposed meshes (largest)
   std::vector<Decomposition> decompositions;  // per decomposed mesh (curves, transforms)
-};
-
-class FuzzyKdInspect {
- public:
-  virtual ~FuzzyKdInspect() = default;
-  virtual const FuzzyKdStats& fuzzyStats() const = 0;
-  // The cluster of a primitive (~0u: in the world tree).
-  virtual uint32_t clusterOf(PrimRef prim) const = 0;
 };
 
 }  // namespace mbrt::detail

@@ -6,7 +6,9 @@ namespace mbrt::detail {
 namespace {
 
 // Keeps the part of `in` on the inner side of the plane x[axis] = value
-// (side < 0: keep x <= value; side > 0: keep x >= value).
+// (side < 0: keep x <= value; side > 0: keep x >= value). Barycentrics are
+// carried only when `Bary`; positions are the same either way.
+template <bool Bary>
 void clipPlane(const ClippedPolygon& in, int axis, float value, int side, ClippedPolygon& out) {
   out.count = 0;
   if (in.count == 0) return;
@@ -17,7 +19,7 @@ void clipPlane(const ClippedPolygon& in, int axis, float value, int side, Clippe
     const bool ia = inside(a), ib = inside(b);
     if (ia) {
       out.pos[out.count] = a;
-      out.bary[out.count] = in.bary[i];
+      if constexpr (Bary) out.bary[out.count] = in.bary[i];
       ++out.count;
     }
     if (ia != ib) {
@@ -29,16 +31,48 @@ void clipPlane(const ClippedPolygon& in, int axis, float value, int side, Clippe
       Vec3f c = lerp(p, q, s);
       c[axis] = value;
       out.pos[out.count] = c;
-      out.bary[out.count] = lerp(in.bary[from], in.bary[to], s);
+      if constexpr (Bary) out.bary[out.count] = lerp(in.bary[from], in.bary[to], s);
       ++out.count;
     }
   }
 }
 
-}  // namespace
+// How a plane meets a polygon: every vertex inside (clipping copies it
+// unchanged), none (clipping empties it), or some.
+enum class Cut { None, All, Some };
+Cut cutBy(const ClippedPolygon& p, int axis, float value, int side) {
+  int in = 0;
+  for (int i = 0; i < p.count; ++i) in += side < 0 ? p.pos[i][axis] <= value : p.pos[i][axis] >= value;
+  return in == p.count ? Cut::None : in == 0 ? Cut::All : Cut::Some;
+}
 
-ClippedPolygon clipTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
-  ClippedPolygon a, b;
+// Clips `poly` by the finite planes of `box`, skipping planes that cut
+// nothing (they would copy the polygon unchanged).
+template <bool Bary>
+ClippedPolygon clipToBox(const ClippedPolygon& poly, const Box3f& box) {
+  ClippedPolygon a = poly, b;
+  ClippedPolygon* cur = &a;
+  ClippedPolygon* nxt = &b;
+  auto plane = [&](int axis, float value, int side) {
+    if (!std::isfinite(value) || cur->count == 0) return;
+    const Cut cut = cutBy(*cur, axis, value, side);
+    if (cut == Cut::None) return;
+    if (cut == Cut::All) {
+      cur->count = 0;
+      return;
+    }
+    clipPlane<Bary>(*cur, axis, value, side, *nxt);
+    std::swap(cur, nxt);
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    plane(axis, box.lower[axis], +1);
+    plane(axis, box.upper[axis], -1);
+  }
+  return *cur;
+}
+
+ClippedPolygon triangle(Vec3f v0, Vec3f v1, Vec3f v2) {
+  ClippedPolygon a;
   a.count = 3;
   a.pos[0] = v0;
   a.pos[1] = v1;
@@ -46,19 +80,41 @@ ClippedPolygon clipTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
   a.bary[0] = {1, 0, 0};
   a.bary[1] = {0, 1, 0};
   a.bary[2] = {0, 0, 1};
-  ClippedPolygon* cur = &a;
-  ClippedPolygon* nxt = &b;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (std::isfinite(box.lower[axis])) {
-      clipPlane(*cur, axis, box.lower[axis], +1, *nxt);
-      std::swap(cur, nxt);
+  return a;
+}
+
+}  // namespace
+
+ClippedPolygon clipTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
+  return clipToBox<true>(triangle(v0, v1, v2), box);
+}
+
+Box3f clipTriangleBounds(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
+  return clipToBox<false>(triangle(v0, v1, v2), box).bounds();
+}
+
+void chopTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box, int axis, std::span<const float> planes,
+                  Box3f* pieces) {
+  const Vec3f v[3] = {v0, v1, v2};
+  Box3f rest = box;
+  for (size_t k = 0; k < planes.size(); ++k) {
+    const float p = planes[k];
+    Box3f below, above;
+    for (int e = 0; e < 3; ++e) {
+      const Vec3f &a = v[e], &b = v[e == 2 ? 0 : e + 1];
+      if (a[axis] <= p) below.extend(a);
+      if (a[axis] >= p) above.extend(a);
+      if ((a[axis] < p && b[axis] > p) || (a[axis] > p && b[axis] < p)) {
+        Vec3f c = lerp(a, b, std::clamp((p - a[axis]) / (b[axis] - a[axis]), 0.0f, 1.0f));
+        c[axis] = p;
+        below.extend(c);
+        above.extend(c);
+      }
     }
-    if (std::isfinite(box.upper[axis])) {
-      clipPlane(*cur, axis, box.upper[axis], -1, *nxt);
-      std::swap(cur, nxt);
-    }
+    pieces[k] = intersect(below, rest);
+    rest = intersect(above, rest);
   }
-  return *cur;
+  pieces[planes.size()] = rest;
 }
 
 bool clipSegment(Vec3f a, Vec3f b, const Box3f& box, float& s0, float& s1) {

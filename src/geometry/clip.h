@@ -5,6 +5,8 @@
 // segments as a parameter interval [s0, s1] of their axis.
 #pragma once
 
+#include <span>
+
 #include "mbrt/math.h"
 
 namespace mbrt::detail {
@@ -28,6 +30,19 @@ struct ClippedPolygon {
 // The part of triangle (v0, v1, v2) inside `box` (closed). Box planes may be
 // infinite (no clipping on that side). Empty polygon: count == 0.
 ClippedPolygon clipTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box);
+
+// clipTriangle(v0, v1, v2, box).bounds(), without the barycentrics.
+Box3f clipTriangleBounds(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box);
+
+// Bounds of the part of triangle (v0, v1, v2) inside `box` between
+// consecutive planes x[axis] = planes[k] (increasing): pieces[0] below
+// planes[0], ..., pieces[planes.size()] above the last; conservative, not
+// tight. Each plane splits the triangle's bounds by its vertices and edge
+// crossings on either side, intersected with `box` narrowed by the planes
+// before (SBVH §4.2 chopping, as Embree's spatial binning splits
+// references): three edges per plane, no polygon.
+void chopTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box, int axis, std::span<const float> planes,
+                  Box3f* pieces);
 
 // Position of barycentric weights in another pose of the triangle.
 inline Vec3f evalBary(Vec3f bary, Vec3f v0, Vec3f v1, Vec3f v2) { return v0 * bary.x + v1 * bary.y + v2 * bary.z; }

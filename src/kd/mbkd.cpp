@@ -1,8 +1,8 @@
 #include "kd/mbkd.h"
 
 #include <bit>
-#include <unordered_map>
 
+#include "core/inspect.h"
 #include "core/sah_sums.h"
 #include "core/traced_structure.h"
 #include "kd/kd_leaf_blocks.h"
@@ -13,7 +13,7 @@
 namespace mbrt::detail {
 namespace {
 
-class Mbkd final : public TracedStructure<Mbkd>, public KdInspect {
+class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
  public:
   explicit Mbkd(const SceneContext& ctx) : ctx_(ctx) {
     const std::vector<PrimRef> all = ctx.primitives();
@@ -49,26 +49,28 @@ class Mbkd final : public TracedStructure<Mbkd>, public KdInspect {
     s.bytes = tree_.bytes() + blocks_.bytes() + prims_.size() * sizeof(PrimRef);
   }
 
-  // The blocks' lanes as the references they were made from.
-  void forEachLeaf(
-      const std::function<void(const Box3f&, const PrimRef*, std::span<const KdLeafRef>)>& fn) const override {
-    std::vector<KdLeafRef> refs;
-    auto key = [](PrimRef p) { return uint64_t(p.geomID) << 32 | p.primID; };
-    std::unordered_map<uint64_t, uint32_t> index;  // primitive -> its index in prims_
-    for (uint32_t i = 0; i < prims_.size(); ++i) index[key(prims_[i])] = i;
+  // Leaf cells with the references of their blocks' lanes and each one's
+  // time interval.
+  void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
+    std::vector<PrimRef> below;
+    std::vector<TimeRange> times;
     walk([&](uint32_t node, const Box3f& cell, int) {
       const KdNode& n = blocks_.cells.nodes[node];
       if (!n.isLeaf()) return;
-      refs.clear();
+      below.clear();
+      times.clear();
       for (uint32_t k = n.first(); k < n.first() + n.count(); ++k) {
         const KdLeafBlock& block = blocks_.blocks[k];
         for (int lane = 0; lane < kKdBlockLanes; ++lane)
-          if (block.t0[lane] <= block.t1[lane]) refs.push_back({index.at(key(block.prim[lane])), block.t0[lane], block.t1[lane]});
+          if (block.t0[lane] <= block.t1[lane]) {
+            below.push_back(block.prim[lane]);
+            times.push_back({block.t0[lane], block.t1[lane]});
+          }
       }
-      fn(cell, prims_.data(), refs);
+      fn(LaneView{{0.0f, 1.0f}, [&cell](float) { return cell; }, below, times});
     });
   }
-  const KdBuildStats& buildStats() const override { return stats_; }
+  std::any buildStats() const override { return &stats_; }
 
  private:
   template <class Fn>

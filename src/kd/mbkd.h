@@ -5,9 +5,7 @@
 // static SAH kd-tree.
 #pragma once
 
-#include <functional>
 #include <memory>
-#include <span>
 
 #include "scene/scene_context.h"
 #include "kd/kd_builder.h"
@@ -16,14 +14,7 @@ namespace mbrt::detail {
 
 std::unique_ptr<Structure> makeMbkd(const SceneContext& context);
 
-// Debug and statistics access for tests and docs.
-class KdInspect {
- public:
-  virtual ~KdInspect() = default;
-  // fn(cell, primitives of the references, references) for every leaf.
-  virtual void forEachLeaf(
-      const std::function<void(const Box3f&, const PrimRef*, std::span<const KdLeafRef>)>& fn) const = 0;
-  virtual const KdBuildStats& buildStats() const = 0;
-};
+// The structure answers core/inspect.h: its leaf cells as lanes, with each
+// reference's time interval, and statsOf<KdBuildStats>.
 
 }  // namespace mbrt::detail

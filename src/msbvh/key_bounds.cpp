@@ -56,9 +56,8 @@ Box3f KeyBounder::clip(PrimRef prim, const Box3f& box) const {
   switch (g.type()) {
     case GeometryType::Triangles: {
       const Triangle& t = g.triangles()[prim.primID];
-      return clipTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1), g.vertexAt(kBuildTime, t.v2),
-                          box)
-          .bounds();
+      return clipTriangleBounds(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1),
+                                g.vertexAt(kBuildTime, t.v2), box);
     }
     case GeometryType::Segments: {
       const Segment& s = g.segments()[prim.primID];
@@ -76,6 +75,15 @@ Box3f KeyBounder::clip(PrimRef prim, const Box3f& box) const {
     }
   }
   return {};
+}
+
+void KeyBounder::chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes,
+                      Box3f* pieces) const {
+  const Geometry& g = ctx_.geometry(prim.geomID);
+  if (g.type() != GeometryType::Triangles) return RefClipper::chop(prim, box, axis, planes, pieces);
+  const Triangle& t = g.triangles()[prim.primID];
+  chopTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1), g.vertexAt(kBuildTime, t.v2), box, axis,
+               planes, pieces);
 }
 
 bool KeyBounder::pieceKeys(PrimRef prim, const Box3f& region, Box3f* out) const {

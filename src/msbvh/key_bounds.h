@@ -61,6 +61,9 @@ class KeyBounder final : public RefClipper {
   Box3f buildBox(PrimRef prim) const;
   // RefClipper: bounds of the primitive's part inside `box` at the build time.
   Box3f clip(PrimRef prim, const Box3f& box) const override;
+  // RefClipper: triangles are split plane by plane (geometry/clip.h
+  // chopTriangle); other primitives clip each slab.
+  void chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes, Box3f* pieces) const override;
   // The n+1 key boxes of the piece of `prim` in `region` (widened); false
   // when the piece is empty (out untouched).
   bool pieceKeys(PrimRef prim, const Box3f& region, Box3f* out) const;

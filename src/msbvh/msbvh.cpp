@@ -142,22 +142,16 @@ inline uint32_t intersectKeys(const KeyPlanes<N>& k0, const KeyPlanes<N>& k1, co
 // The same arithmetic, one lane, for inspection.
 inline float lerpKey(float a, float b, float f) { return madd(f, b - a, a); }
 
-// What tests ask of an MSBVH whatever its width.
-class MsbvhKeys {
- public:
-  virtual ~MsbvhKeys() = default;
-  virtual uint32_t keySegments() const = 0;
-};
-
 template <int N>
-class Msbvh final : public TracedStructure<Msbvh<N>>, public MsbvhKeys, public BvhInspect {
+class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
  public:
   explicit Msbvh(const SceneContext& ctx)
       : ctx_(ctx),
         stepSegments_(chooseKeySegments(ctx)),
         n_(fitKeySegments(ctx, stepSegments_)),
         bounder_(ctx, n_),
-        nodes_(n_ + 1) {
+        nodes_(n_ + 1),
+        stats_{n_} {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
     BuildBudget& budget = ctx.budget();
@@ -186,7 +180,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public MsbvhKeys, public B
     charge_ = std::make_unique<ScopedCharge>(budget, byteCount(), "the MSBVH nodes");
   }
 
-  uint32_t keySegments() const override { return n_; }
+  std::any buildStats() const override { return &stats_; }
 
 
   void fillStats(AccelStats& s) const override {
@@ -392,7 +386,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public MsbvhKeys, public B
         }
         return out;
       };
-      fn(LaneView{{0.0f, 1.0f}, box, std::span<const PrimRef>(prims_.data() + r.first, r.second - r.first)});
+      fn(LaneView{{0.0f, 1.0f}, box, std::span<const PrimRef>(prims_.data() + r.first, r.second - r.first), {}});
       first = std::min(first, r.first);
       end = std::max(end, r.second);
     }
@@ -428,17 +422,13 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public MsbvhKeys, public B
   uint32_t stackSize_ = 1;
   size_t numPrims_ = 0;
   std::unique_ptr<ScopedCharge> charge_;
+  MsbvhStats stats_;
 };
 
 }  // namespace
 
 std::unique_ptr<Structure> makeMsbvh(const SceneContext& context) {
   return makeForBranching<Msbvh>(context);
-}
-
-uint32_t msbvhKeySegments(const Structure& structure) {
-  const auto* m = dynamic_cast<const MsbvhKeys*>(&structure);
-  return m ? m->keySegments() : 0;
 }
 
 }  // namespace mbrt::detail

@@ -14,7 +14,9 @@ namespace mbrt::detail {
 
 std::unique_ptr<Structure> makeMsbvh(const SceneContext& context);
 
-// Key segments n of an MSBVH structure (for tests); 0 for other kinds.
-uint32_t msbvhKeySegments(const Structure& structure);
+// The build figures of an MSBVH (core/inspect.h: statsOf<MsbvhStats>).
+struct MsbvhStats {
+  uint32_t keySegments = 0;  // n: the keys kept (fitKeySegments)
+};
 
 }  // namespace mbrt::detail

@@ -1,8 +1,9 @@
 // The topology of the MSBVH: an SBVH (Stich et al. 2009) built for the
-// geometry at t = 0.5 (MSBVH §3). At each node: the binned object split; if
-// the two object-split children overlap by more than alpha times the root's
-// area, also the binned spatial split with reference clipping and
-// unsplitting (bvh/spatial_split.h); the cheapest of these against the leaf
+// geometry at t = 0.5 (MSBVH §3). At each node: the binned object split (the
+// shared binner, bvh/heuristics/binned_sah.h); if the two object-split
+// children overlap by more than alpha times the root's area, also the binned
+// spatial split with reference chopping and unsplitting
+// (bvh/heuristics/spatial_split.h); the cheapest of these against the leaf
 // cost. Reference growth is capped: the root may add maxGrowth * (primitives)
 // references, and every split hands what is left to its children in
 // proportion to their sizes (so the tree does not depend on thread timing).
@@ -18,7 +19,7 @@ namespace mbrt::detail {
 struct SbvhSettings {
   int maxLeafSize = 8;
   int objectBins = 32;
-  int spatialBins = 32;
+  int spatialBins = 32;        // at most; a node uses adaptiveObjectBins(spatialBins, its references)
   float traversalCost = 1.0f;  // C_T; C_I = 1
   float alpha = 1e-5f;         // overlap threshold (1 disables spatial splits)
   float maxGrowth = 0.3f;      // extra references, as a fraction of the primitives

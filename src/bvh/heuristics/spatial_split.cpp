@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include "scene/primitive_bounds.h"
 
 namespace mbrt::detail {
@@ -39,59 +42,138 @@ bool splitReference(const SplitRef& ref, int axis, float pos, const RefClipper& 
   return true;
 }
 
-SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
-                              const RefClipper& clipper) {
-  SpatialSplit best;
-  const size_t nb = size_t(numBins);
-  std::vector<Box3f> bounds(nb);
-  std::vector<uint32_t> enter(nb), exit(nb);
-  std::vector<Box3f> rightBox(nb);
-  for (int axis = 0; axis < 3; ++axis) {
-    const float lo = nodeBox.lower[axis], extent = nodeBox.upper[axis] - lo;
-    if (!(extent > 0.0f)) continue;
-    const float scale = float(numBins) / extent;
-    auto plane = [&](int i) { return lo + extent * float(i) / float(numBins); };
-    auto binOf = [&](float x) { return std::clamp(int((x - lo) * scale), 0, numBins - 1); };
-    std::fill(bounds.begin(), bounds.end(), Box3f());
-    std::fill(enter.begin(), enter.end(), 0u);
-    std::fill(exit.begin(), exit.end(), 0u);
-    for (const SplitRef& r : refs) {
-      const int first = binOf(r.box.lower[axis]), last = binOf(r.box.upper[axis]);
-      ++enter[size_t(first)];
-      ++exit[size_t(last)];
+void RefClipper::chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes, Box3f* pieces) const {
+  for (size_t k = 0; k <= planes.size(); ++k) {
+    Box3f slab = box;
+    if (k > 0) slab.lower[axis] = std::max(slab.lower[axis], planes[k - 1]);
+    if (k < planes.size()) slab.upper[axis] = std::min(slab.upper[axis], planes[k]);
+    pieces[k] = clip(prim, slab);
+  }
+}
+
+namespace {
+
+struct SpatialBin {
+  Box3f bounds;
+  uint32_t enter = 0, exit = 0;
+};
+
+constexpr int kMaxSpatialBins = 256;
+constexpr size_t kParallelSpatialRefs = 4096;
+constexpr size_t kSpatialGrain = 1024;
+
+// The binning planes of one axis over the node box.
+struct SpatialAxis {
+  float lo = 0.0f, extent = 0.0f, scale = 0.0f;
+  int numBins = 0;
+  bool valid() const { return extent > 0.0f; }
+  float plane(int i) const { return lo + extent * float(i) / float(numBins); }
+  int binOf(float x) const { return std::clamp(int((x - lo) * scale), 0, numBins - 1); }
+};
+
+// Bins `refs` on every valid axis into bins[axis * numBins + bin]: each
+// reference enters its first bin, exits its last, and its piece in each bin
+// it spans (chopped at the bin planes, SBVH §4.2) grows that bin.
+void fillSpatialBins(std::span<const SplitRef> refs, const SpatialAxis (&axes)[3], const RefClipper& clipper,
+                     SpatialBin* bins) {
+  float planes[kMaxSpatialBins];
+  Box3f pieces[kMaxSpatialBins];
+  for (const SplitRef& r : refs)
+    for (int axis = 0; axis < 3; ++axis) {
+      const SpatialAxis& ax = axes[axis];
+      if (!ax.valid()) continue;
+      SpatialBin* ab = bins + size_t(axis) * size_t(ax.numBins);
+      const int first = ax.binOf(r.box.lower[axis]), last = ax.binOf(r.box.upper[axis]);
+      ++ab[first].enter;
+      ++ab[last].exit;
       if (first == last) {
-        bounds[size_t(first)].extend(r.box);
+        ab[first].bounds.extend(r.box);
         continue;
       }
-      for (int b = first; b <= last; ++b) {
+      const int cuts = last - first;
+      for (int k = 0; k < cuts; ++k) planes[k] = ax.plane(first + 1 + k);
+      clipper.chop(r.prim, r.box, axis, std::span<const float>(planes, size_t(cuts)), pieces);
+      for (int k = 0; k <= cuts; ++k) {
+        if (pieces[k].empty()) continue;
         Box3f slab = r.box;
-        if (b > first) slab.lower[axis] = std::max(slab.lower[axis], plane(b));
-        if (b < last) slab.upper[axis] = std::min(slab.upper[axis], plane(b + 1));
-        bounds[size_t(b)].extend(piece(clipper, r.prim, slab));
+        if (k > 0) slab.lower[axis] = std::max(slab.lower[axis], planes[k - 1]);
+        if (k < cuts) slab.upper[axis] = std::min(slab.upper[axis], planes[k]);
+        // Widened against clipping round-off, never beyond the slab.
+        ab[first + k].bounds.extend(intersect(widen(pieces[k]), slab));
       }
     }
-    Box3f acc;
-    for (int i = numBins - 1; i > 0; --i) {
-      acc.extend(bounds[size_t(i)]);
-      rightBox[size_t(i)] = acc;
-    }
-    acc = Box3f();
-    size_t nl = 0, nr = refs.size();
-    for (int i = 1; i < numBins; ++i) {
-      acc.extend(bounds[size_t(i - 1)]);
-      nl += enter[size_t(i - 1)];
-      nr -= exit[size_t(i - 1)];
-      if (nl == 0 || nr == 0) continue;
-      const float cost = acc.halfArea() * float(nl) + rightBox[size_t(i)].halfArea() * float(nr);
-      if (cost < best.cost) {
-        best.axis = axis;
-        best.pos = plane(i);
-        best.cost = cost;
-        best.leftCount = nl;
-        best.rightCount = nr;
-      }
+}
+
+void mergeBins(std::vector<SpatialBin>& a, const std::vector<SpatialBin>& b) {
+  for (size_t i = 0; i < a.size(); ++i) {
+    a[i].bounds.extend(b[i].bounds);
+    a[i].enter += b[i].enter;
+    a[i].exit += b[i].exit;
+  }
+}
+
+// The best plane of one axis's bins, if it beats `best`.
+void sweepSpatialAxis(const SpatialBin* ab, const SpatialAxis& ax, int axis, size_t count, SpatialSplit& best) {
+  Box3f rightBox[kMaxSpatialBins];
+  Box3f acc;
+  for (int i = ax.numBins - 1; i > 0; --i) {
+    acc.extend(ab[i].bounds);
+    rightBox[i] = acc;
+  }
+  acc = Box3f();
+  size_t nl = 0, nr = count;
+  for (int i = 1; i < ax.numBins; ++i) {
+    acc.extend(ab[i - 1].bounds);
+    nl += ab[i - 1].enter;
+    nr -= ab[i - 1].exit;
+    if (nl == 0 || nr == 0) continue;
+    const float cost = acc.halfArea() * float(nl) + rightBox[i].halfArea() * float(nr);
+    if (cost < best.cost) {
+      best.axis = axis;
+      best.pos = ax.plane(i);
+      best.cost = cost;
+      best.leftCount = nl;
+      best.rightCount = nr;
     }
   }
+}
+
+}  // namespace
+
+SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
+                              const RefClipper& clipper) {
+  numBins = std::clamp(numBins, 1, kMaxSpatialBins);
+  SpatialAxis axes[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    SpatialAxis& ax = axes[axis];
+    ax.lo = nodeBox.lower[axis];
+    ax.extent = nodeBox.upper[axis] - ax.lo;
+    if (!(ax.extent > 0.0f)) ax.extent = 0.0f;
+    ax.scale = ax.valid() ? float(numBins) / ax.extent : 0.0f;
+    ax.numBins = numBins;
+  }
+  using Bins = std::vector<SpatialBin>;
+  const size_t nb = 3 * size_t(numBins);
+  Bins bins;
+  if (refs.size() < kParallelSpatialRefs) {
+    bins.resize(nb);
+    fillSpatialBins(refs, axes, clipper, bins.data());
+  } else {
+    bins = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<size_t>(0, refs.size(), kSpatialGrain), Bins(nb),
+        [&](const tbb::blocked_range<size_t>& r, Bins acc) {
+          fillSpatialBins(refs.subspan(r.begin(), r.size()), axes, clipper, acc.data());
+          return acc;
+        },
+        [](Bins a, const Bins& b) {
+          mergeBins(a, b);
+          return a;
+        });
+  }
+  SpatialSplit best;
+  for (int axis = 0; axis < 3; ++axis)
+    if (axes[axis].valid())
+      sweepSpatialAxis(bins.data() + size_t(axis) * size_t(numBins), axes[axis], axis, refs.size(), best);
   return best;
 }
 

@@ -31,6 +31,12 @@ struct SplitRef {
 struct RefClipper {
   virtual ~RefClipper() = default;
   virtual Box3f clip(PrimRef prim, const Box3f& box) const = 0;
+  // The bounds of the primitive's parts inside `box` between consecutive
+  // planes x[axis] = planes[k] (increasing): planes.size() + 1 pieces, each
+  // containing what clip() of its slab gives (binning bounds: they may be
+  // looser). By default one clip() per slab; clippers that can split a
+  // primitive plane by plane do so.
+  virtual void chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes, Box3f* pieces) const;
 };
 
 // Splits one reference at the plane x[axis] = pos into two pieces; false
@@ -47,7 +53,9 @@ struct SpatialSplit {
 };
 
 // Best spatial split of the references over `nodeBox` with `numBins` bins
-// per axis; invalid when no plane separates anything.
+// per axis (at most 256); invalid when no plane separates anything. Large
+// nodes bin in parallel over fixed blocks (exact merges: the result does not
+// depend on the thread count).
 SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
                               const RefClipper& clipper);
 

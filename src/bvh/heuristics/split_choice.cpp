@@ -59,7 +59,7 @@ void SplitChooser::dropHalves(Decision& d) {
 
 ObjectSplit SplitChooser::objectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int depth) const {
   if (depth >= s_.maxBinnedDepth || refs.size() <= 1) return ObjectSplit();
-  return findObjectSplit(refs, info, s_.numBins, {});
+  return findObjectSplit(refs, info, adaptiveObjectBins(s_.numBins, refs.size()));
 }
 
 size_t SplitChooser::partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,

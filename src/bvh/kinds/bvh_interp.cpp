@@ -43,7 +43,7 @@ class BvhInterp final : public WideBvhStructure<N, true> {
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
     if (bvh_.empty()) return;
     walkLanes(bvh_, 0, [&](const WideNode<N, true>& node, int lane, std::span<const PrimRef> below) {
-      fn(LaneView{{0.0f, 1.0f}, [&node, lane](float t) { return node.boxAt(lane, t); }, below});
+      fn(LaneView{{0.0f, 1.0f}, [&node, lane](float t) { return node.boxAt(lane, t); }, below, {}});
     });
   }
 

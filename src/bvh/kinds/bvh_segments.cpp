@@ -47,7 +47,7 @@ struct SegmentRefs final : RefMaker {
 };
 
 template <int N>
-class BvhSegments final : public TracedStructure<BvhSegments<N>>, public BvhInspect {
+class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect {
  public:
   explicit BvhSegments(const SceneContext& ctx) : ctx_(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
@@ -83,7 +83,7 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public BvhInsp
         auto box = [&node, lane, n, i](float t) {
           return node.boxAt(lane, std::clamp(t * float(n) - float(i), 0.0f, 1.0f));
         };
-        fn(LaneView{segmentRange(i, n), box, below});
+        fn(LaneView{segmentRange(i, n), box, below, {}});
       });
     }
   }

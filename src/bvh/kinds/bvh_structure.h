@@ -59,7 +59,7 @@ struct SceneTemporalSource final : TemporalSource {
 // Motion trees interpolate the node boxes at the ray's time; a static tree
 // (`frozen`) sees every ray at its one time `frozenTime`.
 template <int N, bool Motion>
-class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, public BvhInspect {
+class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, public Inspect {
  public:
   template <bool AnyHit, bool Count>
   bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {

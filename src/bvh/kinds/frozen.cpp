@@ -44,7 +44,7 @@ class Frozen final : public WideBvhStructure<N, false> {
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
     if (bvh_.empty()) return;
     walkLanes(bvh_, 0, [&](const WideNode<N, false>& node, int lane, std::span<const PrimRef> below) {
-      fn(LaneView{{time_, time_}, [&node, lane](float) { return node.boxAt(lane, 0.0f); }, below});
+      fn(LaneView{{time_, time_}, [&node, lane](float) { return node.boxAt(lane, 0.0f); }, below, {}});
     });
   }
 

@@ -29,7 +29,7 @@ class Stbvh final : public WideBvhStructure<N, true> {
     if (bvh_.empty()) return;
     walkTimedLanes(bvh_, 0, TimeRange{0.0f, 1.0f},
                    [&](const WideNode<N, true>& node, int lane, TimeRange range, std::span<const PrimRef> below) {
-                     fn(LaneView{range, [&node, lane](float t) { return node.boxAt(lane, t); }, below});
+                     fn(LaneView{range, [&node, lane](float t) { return node.boxAt(lane, t); }, below, {}});
                    });
   }
 };
