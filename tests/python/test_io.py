@@ -29,7 +29,7 @@ def test_load_builtin_name_with_size():
 
 def test_load_gltf_shutter_and_steps():
     import pathlib
-    path = pathlib.Path(__file__).resolve().parents[2].parent / "shared" / "scenes" / "CesiumMan.glb"
+    path = pathlib.Path(__file__).resolve().parents[2].parent / "shared" / "scenes" / "cesium_man" / "CesiumMan.glb"
     if not path.exists():
         pytest.skip(f"{path} is absent")
     scene = mbrt.load(str(path), shutter=(0.0, 0.5), steps=4)
