@@ -26,13 +26,14 @@ class CMakeBuild(build_ext):
     def build_extension(self, ext):
         target = pathlib.Path(self.get_ext_fullpath(ext.name)).resolve()
         build = pathlib.Path(os.environ.get("MBRT_CMAKE_BUILD_DIR") or pathlib.Path(self.build_temp) / "cmake").resolve()
-        configure = [
-            "cmake", "-S", str(ROOT), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
-            "-DMBRT_PYTHON=ON", "-DMBRT_BUILD_TESTS=OFF", "-DMBRT_BUILD_TOOLS=OFF",
-            f"-DMBRT_PYTHON_EXECUTABLE={sys.executable}",
-        ]
-        if shutil.which("ninja") and not (build / "CMakeCache.txt").exists():
-            configure += ["-G", "Ninja"]
+        configure = ["cmake", "-S", str(ROOT), "-B", str(build), "-DMBRT_PYTHON=ON",
+                     f"-DMBRT_PYTHON_EXECUTABLE={os.path.realpath(sys.executable)}"]  # a venv: its base
+        if not (build / "CMakeCache.txt").exists():
+            # A new folder builds the library and the module only; an existing
+            # one (MBRT_CMAKE_BUILD_DIR) keeps its other settings.
+            configure += ["-DCMAKE_BUILD_TYPE=Release", "-DMBRT_BUILD_TESTS=OFF", "-DMBRT_BUILD_TOOLS=OFF"]
+            if shutil.which("ninja"):
+                configure += ["-G", "Ninja"]
         configure += shlex.split(os.environ.get("CMAKE_ARGS", ""))
         subprocess.run(configure, check=True)
         jobs = os.environ.get("MBRT_JOBS", str(os.cpu_count() or 1))
