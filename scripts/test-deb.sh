@@ -15,14 +15,13 @@ deb="$(ls "$build_dir"/mbrt_*.deb)"
 contents="$(dpkg-deb -c "$deb")"
 missing=0
 for path in ./usr/bin/mbrt ./usr/include/mbrt/mbrt.h ./usr/include/mbrt/accel.h \
-            "./usr/lib/x86_64-linux-gnu/libmbrt.so.0.1.0" ./usr/lib/x86_64-linux-gnu/libmbrt.a \
-            ./usr/lib/x86_64-linux-gnu/libmbrt_accel.a ./usr/lib/x86_64-linux-gnu/pkgconfig/mbrt.pc \
-            ./usr/lib/x86_64-linux-gnu/cmake/mbrt/mbrtConfig.cmake \
             ./usr/lib/python3/dist-packages/mbrt/__init__.py ./usr/lib/python3/dist-packages/mbrt/_mbrt.pyi; do
-  if ! grep -qF " $path" <<<"$contents"; then
-    echo "test-deb.sh: $deb lacks $path" >&2
-    missing=1
-  fi
+  grep -qF " $path" <<<"$contents" || { echo "test-deb.sh: $deb lacks $path" >&2; missing=1; }
+done
+# In lib/ or lib/<multiarch>/, as GNUInstallDirs chose for the prefix.
+for lib in libmbrt.so.0.1.0 libmbrt.a libmbrt_accel.a pkgconfig/mbrt.pc cmake/mbrt/mbrtConfig.cmake; do
+  grep -qE " \./usr/lib/([a-z0-9_]+-linux-gnu/)?${lib//./\\.}\$" <<<"$contents" ||
+    { echo "test-deb.sh: $deb lacks usr/lib/.../$lib" >&2; missing=1; }
 done
 grep -q "dist-packages/mbrt/_mbrt.cpython-.*\.so" <<<"$contents" || { echo "test-deb.sh: no Python extension" >&2; missing=1; }
 [ "$missing" -eq 0 ] || exit 1
