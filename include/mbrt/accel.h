@@ -22,12 +22,35 @@ class Structure;
 struct BuiltStructure;
 }
 
+// Thread safety.
+//  - Concurrent: intersect, occluded (single rays and batches), stats and
+//    clusterOf may run from any number of threads at once, on one Accel or
+//    on several, also while other accels are built over the same scene
+//    (building only reads the scene). Batches run in parallel themselves,
+//    in the calling thread's TBB arena.
+//  - Exclusive: rebuild, refit, destroying the Accel, and every change to
+//    the scene or to a scene it instances (Scene::add*, setVertices,
+//    setMask, setFilter, writing to shared vertex memory): no other call may
+//    use that Accel, or any accel over that scene, meanwhile.
+//  - Filters (Scene::setFilter) run on the tracing threads, concurrently
+//    when several threads trace (or a batch runs in parallel): they must be
+//    thread-safe then.
+// tests/threads/ checks the concurrent part, also under ThreadSanitizer
+// (scripts/test-tsan.sh).
+//
+// Lifetime. An Accel refers to its scene (and through it to the instanced
+// scenes and any shared vertex memory) without owning it: the scene must
+// outlive the Accel and stay where it is (a moved-to Scene is another
+// object: build a new Accel on it). The bindings make the violation
+// impossible by ownership: the C API refuses to release a scene while
+// accels on it live (capi.release_in_use), and a Python Accel holds its
+// Scene (tests/python/test_sharing.py).
 class Accel {
  public:
   // Builds the structure named by options.kind. Throws Error for invalid
   // scenes or options, and before exceeding options.memoryBudget. The build
   // runs in the caller's TBB arena and is deterministic whatever the thread
-  // count. The scene must outlive the Accel.
+  // count. The scene must outlive the Accel (see Lifetime above).
   static std::unique_ptr<Accel> build(const Scene& scene, const BuildOptions& options);
   ~Accel();
 
