@@ -35,16 +35,16 @@ struct BuiltStructure;
 //  - Filters (Scene::setFilter) run on the tracing threads, concurrently
 //    when several threads trace (or a batch runs in parallel): they must be
 //    thread-safe then.
-// tests/threads/ checks the concurrent part, also under ThreadSanitizer
+// tests/threads/ checks the concurrent part under ThreadSanitizer
 // (scripts/test-tsan.sh).
 //
-// Lifetime. An Accel refers to its scene (and through it to the instanced
-// scenes and any shared vertex memory) without owning it: the scene must
-// outlive the Accel and stay where it is (a moved-to Scene is another
-// object: build a new Accel on it). The bindings make the violation
-// impossible by ownership: the C API refuses to release a scene while
-// accels on it live (capi.release_in_use), and a Python Accel holds its
-// Scene (tests/python/test_sharing.py).
+// Lifetime. An Accel refers to its scene (and through it to the scene's
+// vertex memory), it does not own it: the scene must outlive the Accel and
+// stay where it is. A scene destroyed, moved from or moved into after the
+// build (Scene::lifetime() has expired) makes every call of the Accel
+// throw Error saying so, rather than read freed memory; the check is one
+// load per call. Bindings that own scenes make this impossible instead
+// (the Python Accel holds its Scene).
 class Accel {
  public:
   // Builds the structure named by options.kind. Throws Error for invalid
@@ -78,13 +78,19 @@ class Accel {
 
   AccelStats stats() const;
   const BuildOptions& options() const { return options_; }
-  const Scene& scene() const { return *scene_; }
+  // Throws Error when the scene was destroyed or moved (see Lifetime).
+  const Scene& scene() const;
 
  private:
   Accel(const Scene& scene, const BuildOptions& options);
   void construct();
+  void checkScene() const {
+    if (sceneLifetime_.expired()) sceneGone();
+  }
+  [[noreturn]] static void sceneGone();
 
   const Scene* scene_;
+  std::weak_ptr<const void> sceneLifetime_;
   BuildOptions options_;
   std::unique_ptr<detail::BuiltStructure> built_;
   detail::Structure* structure_ = nullptr;  // built_'s, traced directly
