@@ -73,8 +73,9 @@ class Accel:
     def intersect(self, rays: Optional[ArrayLike] = None, *, org: Optional[ArrayLike] = None,
                   dir: Optional[ArrayLike] = None, tnear: Union[None, Scalar, ArrayLike] = None,
                   tfar: Union[None, Scalar, ArrayLike] = None, time: Union[None, Scalar, ArrayLike] = None,
-                  mask: Union[None, int, ArrayLike] = None) -> Hits:
-        """rays (N, 9) float32 (org, dir, tnear, tfar, time) or org/dir (N, 3) and the rest."""
+                  mask: Union[None, int, ArrayLike] = None, out: Optional[Hits] = None) -> Hits:
+        """rays (N, 9) float32 (org, dir, tnear, tfar, time) or org/dir (N, 3) and the rest;
+        out: an earlier Hits of as many rays to write into."""
     def occluded(self, rays: Optional[ArrayLike] = None, *, org: Optional[ArrayLike] = None,
                  dir: Optional[ArrayLike] = None, tnear: Union[None, Scalar, ArrayLike] = None,
                  tfar: Union[None, Scalar, ArrayLike] = None, time: Union[None, Scalar, ArrayLike] = None,

@@ -33,8 +33,20 @@ struct RayColumns {
   float scalars[4] = {0.0f, kInf, 0.0f, 0.0f};
   uint32_t maskScalar = 0xFFFFFFFFu;
 
+  // Set when the rays are one C-contiguous (N, 9) float32 array and the
+  // mask is one number: a ray is then 9 consecutive floats.
+  const float* packed = nullptr;
+
   Ray ray(size_t i) const {
     Ray r;
+    if (packed) {
+      const float* f = packed + 9 * i;
+      r.org = {f[0], f[1], f[2]};
+      r.dir = {f[3], f[4], f[5]};
+      r.tnear = f[6], r.tfar = f[7], r.time = f[8];
+      r.mask = maskScalar;
+      return r;
+    }
     r.org = {c[0].at<float>(i), c[1].at<float>(i), c[2].at<float>(i)};
     r.dir = {c[3].at<float>(i), c[4].at<float>(i), c[5].at<float>(i)};
     r.tnear = c[6].at<float>(i);
@@ -107,6 +119,9 @@ void readRays(RayColumns& out, const py::object& rays, const py::object& org, co
     values<float>(out, time, 8, out.scalars[2], "time");
   }
   values<uint32_t>(out, mask, 9, out.maskScalar, "mask");
+  const py::array& first = out.keep.front();
+  if (!rays.is_none() && out.c[9].stride == 0 && (first.flags() & py::array::c_style))
+    out.packed = static_cast<const float*>(first.data());
 }
 
 // What intersect() returns: one numpy array per field.
@@ -122,13 +137,21 @@ void parallelOverRays(size_t count, Body&& body) {
   });
 }
 
-PyHits intersect(const PyAccel& self, const py::object& rays, const py::object& org, const py::object& dir,
-                 const py::object& tnear, const py::object& tfar, const py::object& time, const py::object& mask) {
+py::object intersect(const PyAccel& self, const py::object& rays, const py::object& org, const py::object& dir,
+                     const py::object& tnear, const py::object& tfar, const py::object& time, const py::object& mask,
+                     const py::object& out) {
   RayColumns in;
   readRays(in, rays, org, dir, tnear, tfar, time, mask);
   const py::ssize_t n = py::ssize_t(in.count);
-  PyHits h{py::array_t<float>(n), py::array_t<float>(n), py::array_t<float>(n), py::array_t<float>({n, py::ssize_t(3)}),
-           py::array_t<uint32_t>(n), py::array_t<uint32_t>(n), py::array_t<uint32_t>(n)};
+  py::object result = out;
+  if (out.is_none()) {
+    result = py::cast(PyHits{py::array_t<float>(n), py::array_t<float>(n), py::array_t<float>(n),
+                             py::array_t<float>({n, py::ssize_t(3)}), py::array_t<uint32_t>(n),
+                             py::array_t<uint32_t>(n), py::array_t<uint32_t>(n)});
+  } else if (!py::isinstance<PyHits>(out) || out.cast<PyHits&>().t.size() != n) {
+    fail("out must be an mbrt.Hits of as many rays (" + std::to_string(n) + ")");
+  }
+  PyHits& h = result.cast<PyHits&>();
   float *t = h.t.mutable_data(), *u = h.u.mutable_data(), *v = h.v.mutable_data(), *ng = h.ng.mutable_data();
   uint32_t *g = h.geomID.mutable_data(), *p = h.primID.mutable_data(), *inst = h.instID.mutable_data();
   {
@@ -144,7 +167,7 @@ PyHits intersect(const PyAccel& self, const py::object& rays, const py::object& 
       g[i] = hit.geomID, p[i] = hit.primID, inst[i] = hit.instID;
     });
   }
-  return h;
+  return result;
 }
 
 py::array_t<bool> occluded(const PyAccel& self, const py::object& rays, const py::object& org,
@@ -241,7 +264,9 @@ void bindAccel(py::module_& m) {
           "(N,) bool: whether the ray hit")
       .def("__len__", [](const PyHits& h) { return h.t.size(); });
 
-  const std::string intersectDoc = std::string("Closest hits of the rays: an mbrt.Hits.\n") + kRaysDoc;
+  const std::string intersectDoc = std::string(
+      "Closest hits of the rays: an mbrt.Hits. out=hits writes into an earlier result of as many rays\n"
+      "(and returns it) instead of allocating new arrays.\n") + kRaysDoc;
   const std::string occludedDoc = std::string("Whether each ray hits anything in [tnear, tfar]: (N,) bool.\n") + kRaysDoc;
   py::class_<PyAccel, std::shared_ptr<PyAccel>>(m, "Accel", R"doc(
 An acceleration structure over a Scene. kind is any kind name of the
@@ -268,7 +293,7 @@ tracing raise mbrt.Error until rebuild().)doc")
            "Builds the structure (GIL released). Raises mbrt.Error for a bad scene or options.")
       .def("intersect", &intersect, "rays"_a = py::none(), py::kw_only(), "org"_a = py::none(),
            "dir"_a = py::none(), "tnear"_a = py::none(), "tfar"_a = py::none(), "time"_a = py::none(),
-           "mask"_a = py::none(), intersectDoc.c_str())
+           "mask"_a = py::none(), "out"_a = py::none(), intersectDoc.c_str())
       .def("occluded", &occluded, "rays"_a = py::none(), py::kw_only(), "org"_a = py::none(), "dir"_a = py::none(),
            "tnear"_a = py::none(), "tfar"_a = py::none(), "time"_a = py::none(), "mask"_a = py::none(),
            occludedDoc.c_str())

@@ -94,3 +94,19 @@ def test_added_geometry_needs_rebuild():
     accel.rebuild()
     hits = accel.intersect(RAY)
     assert hits.geom_id[0] == 1 and hits.t[0] == pytest.approx(4.0)
+
+
+def test_intersect_into_an_earlier_result():
+    indices, steps = moving_quad(steps=2, offset=0.0)
+    scene = mbrt.Scene()
+    scene.add_triangle_mesh(indices, steps)
+    accel = mbrt.Accel(scene, "stbvh")
+    rays = np.repeat(RAY, 3, axis=0)
+    hits = accel.intersect(rays)
+    t = hits.t
+    rays[1, 2] = -7.0  # one ray starts farther away
+    again = accel.intersect(rays, out=hits)
+    assert again is hits and hits.t is t  # the same arrays, rewritten
+    assert hits.t == pytest.approx([5.0, 7.0, 5.0])
+    with pytest.raises(mbrt.Error, match="as many rays"):
+        accel.intersect(rays[:2], out=hits)
