@@ -42,6 +42,28 @@ install(TARGETS mbrt_c EXPORT mbrtTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 
+# The static C library libmbrt.a, installed beside libmbrt.so: the C layer
+# and the kernel (mbrt_accel) merged into one archive, so that
+# `cc app.c $(pkg-config --static --libs mbrt)` links without the shared one.
+add_library(mbrt_c_part STATIC ${MBRT_C_SOURCES})
+target_include_directories(mbrt_c_part PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src)
+target_link_libraries(mbrt_c_part PRIVATE mbrt_accel)
+target_compile_options(mbrt_c_part PRIVATE ${MBRT_ISA_FLAGS})
+set(MBRT_C_STATIC ${PROJECT_BINARY_DIR}/static/libmbrt.a)
+add_custom_command(OUTPUT ${MBRT_C_STATIC}
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/static
+  COMMAND ${CMAKE_COMMAND} -DOUTPUT=${MBRT_C_STATIC} -DAR=${CMAKE_AR}
+          "-DINPUTS=$<TARGET_FILE:mbrt_c_part>|$<TARGET_FILE:mbrt_accel>"
+          -P ${PROJECT_SOURCE_DIR}/cmake/MergeStatic.cmake
+  DEPENDS mbrt_c_part mbrt_accel ${PROJECT_SOURCE_DIR}/cmake/MergeStatic.cmake VERBATIM)
+add_custom_target(mbrt_c_static ALL DEPENDS ${MBRT_C_STATIC})
+install(FILES ${MBRT_C_STATIC} DESTINATION ${CMAKE_INSTALL_LIBDIR})
+# What a static link needs besides libmbrt.a (pkg-config --static).
+set(MBRT_PC_LIBS_PRIVATE "-ltbb -lstdc++ -lm -lpthread")
+if(MBRT_WITH_EMBREE)
+  string(PREPEND MBRT_PC_LIBS_PRIVATE "-lembree3 ")
+endif()
+
 # pkg-config: `cc trace.c $(pkg-config --cflags --libs mbrt)`. The prefix is
 # found from the file's own place (${pcfiledir}), so that the file stays
 # true wherever `cmake --install --prefix` puts it.
@@ -56,6 +78,7 @@ Name: mbrt
 Description: Motion-blur ray tracing (C API)
 Version: @PROJECT_VERSION@
 Libs: -L\${libdir} -lmbrt
+Libs.private: @MBRT_PC_LIBS_PRIVATE@
 Cflags: -I\${includedir}
 ")
 install(FILES ${PROJECT_BINARY_DIR}/mbrt.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
@@ -77,7 +100,7 @@ if(MBRT_BUILD_TESTS)
   target_link_libraries(mbrt_c_tests PRIVATE mbrt_c Threads::Threads m)
   # One CTest per case of tests/c/test_capi.c (its main runs the case named).
   foreach(case IN ITEMS version null_handles wrong_handles bad_arguments bad_kind error_callback
-                        release_in_use frozen_scene time_range_and_mask srt_instances filters agreement batched
+                        release_in_use frozen_scene time_range_and_mask srt_instances filters agreement batched soa
                         threads stats memory_budget)
     add_test(NAME capi.${case} COMMAND mbrt_c_tests ${case})
   endforeach()
@@ -94,6 +117,10 @@ if(MBRT_BUILD_TESTS)
   add_test(NAME capi.plain_cc
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/plain_cc.sh ${PROJECT_SOURCE_DIR}
                    $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_plain_cc "${MBRT_PLAIN_CC_FLAGS}")
+  # The example links statically against libmbrt.a alone (no libmbrt.so).
+  add_test(NAME capi.static_link
+           COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/static_link.sh ${PROJECT_SOURCE_DIR} ${MBRT_C_STATIC}
+                   ${PROJECT_BINARY_DIR}/capi_static "${MBRT_PLAIN_CC_FLAGS} ${MBRT_PC_LIBS_PRIVATE}")
   # The example of docs/c-api.md compiles and runs.
   add_test(NAME capi.doc_example
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/doc_example.sh ${PROJECT_SOURCE_DIR}

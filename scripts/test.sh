@@ -2,7 +2,8 @@
 # Installs the dependencies, builds mbrt (Release), runs every test, then
 # installs mbrt into a temporary prefix and builds and runs
 # examples/consumer against it with find_package(mbrt), and the C example
-# against the installed libmbrt.so (pkg-config and find_package).
+# against the installed libmbrt.so (pkg-config and find_package), and
+# `pip install --no-build-isolation .` of the Python module into a venv.
 # Exits non-zero on any failure.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -35,5 +36,9 @@ fi
 "$tmp/prefix/bin/mbrt" --version
 # The C API from the install: pkg-config and find_package(mbrt) with mbrt::c.
 bash tests/c/installed.sh "$tmp/prefix" "$tmp/capi"
+# The Python module through pip, offline, into a venv (reuses the build).
+if grep -q '^MBRT_PYTHON:BOOL=ON' "$build_dir/CMakeCache.txt"; then
+  bash tests/python/pip_install.sh "$build_dir"
+fi
 
 echo "test.sh: all tests passed"

@@ -22,12 +22,35 @@ class Structure;
 struct BuiltStructure;
 }
 
+// Thread safety.
+//  - Concurrent: intersect, occluded (single rays and batches), stats and
+//    clusterOf may run from any number of threads at once, on one Accel or
+//    on several, also while other accels are built over the same scene
+//    (building only reads the scene). Batches run in parallel themselves,
+//    in the calling thread's TBB arena.
+//  - Exclusive: rebuild, refit, destroying the Accel, and every change to
+//    the scene or to a scene it instances (Scene::add*, setVertices,
+//    setMask, setFilter, writing to shared vertex memory): no other call may
+//    use that Accel, or any accel over that scene, meanwhile.
+//  - Filters (Scene::setFilter) run on the tracing threads, concurrently
+//    when several threads trace (or a batch runs in parallel): they must be
+//    thread-safe then.
+// tests/threads/ checks the concurrent part under ThreadSanitizer
+// (scripts/test-tsan.sh).
+//
+// Lifetime. An Accel refers to its scene (and through it to the scene's
+// vertex memory), it does not own it: the scene must outlive the Accel and
+// stay where it is. A scene destroyed, moved from or moved into after the
+// build (Scene::lifetime() has expired) makes every call of the Accel
+// throw Error saying so, rather than read freed memory; the check is one
+// load per call. Bindings that own scenes make this impossible instead
+// (the Python Accel holds its Scene).
 class Accel {
  public:
   // Builds the structure named by options.kind. Throws Error for invalid
   // scenes or options, and before exceeding options.memoryBudget. The build
   // runs in the caller's TBB arena and is deterministic whatever the thread
-  // count. The scene must outlive the Accel.
+  // count. The scene must outlive the Accel (see Lifetime above).
   static std::unique_ptr<Accel> build(const Scene& scene, const BuildOptions& options);
   ~Accel();
 
@@ -55,13 +78,19 @@ class Accel {
 
   AccelStats stats() const;
   const BuildOptions& options() const { return options_; }
-  const Scene& scene() const { return *scene_; }
+  // Throws Error when the scene was destroyed or moved (see Lifetime).
+  const Scene& scene() const;
 
  private:
   Accel(const Scene& scene, const BuildOptions& options);
   void construct();
+  void checkScene() const {
+    if (sceneLifetime_.expired()) sceneGone();
+  }
+  [[noreturn]] static void sceneGone();
 
   const Scene* scene_;
+  std::weak_ptr<const void> sceneLifetime_;
   BuildOptions options_;
   std::unique_ptr<detail::BuiltStructure> built_;
   detail::Structure* structure_ = nullptr;  // built_'s, traced directly

@@ -27,8 +27,8 @@
  * MBRT_ERROR_INVALID_OPERATION until those accels are released.
  *
  * Thread safety.
- *  - Tracing (mbrtIntersect1, mbrtOccluded1, mbrtIntersectM, mbrtOccludedM)
- *    and mbrtGetAccelStats may run from any number of threads at once, on
+ *  - Tracing (mbrtIntersect1, mbrtOccluded1, mbrtIntersectM, mbrtOccludedM,
+ *    mbrtIntersectSoA, mbrtOccludedSoA) and mbrtGetAccelStats may run from any number of threads at once, on
  *    the same accel or on different ones. The batched calls run in parallel
  *    themselves (TBB).
  *  - Intersection filters run on the tracing threads, concurrently when
@@ -36,6 +36,8 @@
  *  - Building (mbrtNewAccel), releasing any handle and changing a scene
  *    (adding geometry, setting masks or filters) need exclusive access: no other call
  *    may use that scene, or an accel built on it, at the same time.
+ *  - The C++ contract behind these rules is in mbrt/accel.h; the
+ *    concurrent part runs under ThreadSanitizer (scripts/test-tsan.sh).
  *  - Errors and the error callback may be raised from any thread; the
  *    callback must be thread-safe when tracing runs on several threads.
  *    The message passed to it is valid during the call only; the message
@@ -234,6 +236,29 @@ MBRT_API int mbrtOccluded1(MBRTAccel accel, const MBRTRay* ray);
  * (nothing is written then). */
 MBRT_API int mbrtIntersectM(MBRTAccel accel, const MBRTRay* rays, MBRTHit* hits, size_t count);
 MBRT_API int mbrtOccludedM(MBRTAccel accel, const MBRTRay* rays, uint8_t* occluded, size_t count);
+
+/* Struct-of-arrays rays: one array of `count` entries per component.
+ * orgX ... dirZ are required; tnear, tfar, time and mask may be NULL (every
+ * ray then has 0, +inf, 0, all bits). */
+typedef struct MBRTRaySoA {
+  const float *orgX, *orgY, *orgZ;
+  const float *dirX, *dirY, *dirZ;
+  const float *tnear, *tfar, *time;
+  const uint32_t* mask;
+} MBRTRaySoA;
+
+/* Struct-of-arrays hits: one array of `count` entries per field; a NULL
+ * field is not written (t, geomID and primID are required). */
+typedef struct MBRTHitSoA {
+  float *t, *u, *v;
+  float *ngX, *ngY, *ngZ;
+  uint32_t *geomID, *primID, *instID;
+} MBRTHitSoA;
+
+/* The same as mbrtIntersectM / mbrtOccludedM over struct-of-arrays rays
+ * (and hits). Returns 1 on success, 0 on error (nothing is written then). */
+MBRT_API int mbrtIntersectSoA(MBRTAccel accel, const MBRTRaySoA* rays, const MBRTHitSoA* hits, size_t count);
+MBRT_API int mbrtOccludedSoA(MBRTAccel accel, const MBRTRaySoA* rays, uint8_t* occluded, size_t count);
 
 #ifdef __cplusplus
 }

@@ -167,8 +167,11 @@ class Scene {
   Scene() = default;
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
-  Scene(Scene&&) = default;
-  Scene& operator=(Scene&&) = default;
+  // Moving a scene hands its geometries to the new object; accels built on
+  // either object before the move refuse every call afterwards (see
+  // lifetime()), as they do after the scene is destroyed.
+  Scene(Scene&& other);
+  Scene& operator=(Scene&& other);
 
   // Triangle mesh with S = steps.size() vertex steps, owned by the scene.
   // Returns the geometry id (ids count up from 0 in the order of adding).
@@ -220,6 +223,10 @@ class Scene {
   // that a caller can tell whether what it derived from the scene is stale.
   uint64_t version() const { return version_; }
 
+  // Expires when this object is destroyed, moved from or assigned to: what
+  // an Accel checks before using the scene it was built on.
+  std::weak_ptr<const void> lifetime() const { return lifetime_; }
+
  private:
   Geometry& add(GeometryType type);
   Geometry& mutableGeometry(uint32_t geomID);
@@ -227,6 +234,7 @@ class Scene {
 
   std::vector<std::unique_ptr<Geometry>> geometries_;
   uint64_t version_ = 0;
+  std::shared_ptr<const int> lifetime_ = std::make_shared<const int>(0);
 };
 
 // Bounds of a scene over the whole shutter: every vertex at every step

@@ -78,8 +78,19 @@ struct BuiltStructure {
 };
 }  // namespace detail
 
-Accel::Accel(const Scene& scene, const BuildOptions& options) : scene_(&scene), options_(options) {}
+Accel::Accel(const Scene& scene, const BuildOptions& options)
+    : scene_(&scene), sceneLifetime_(scene.lifetime()), options_(options) {}
 Accel::~Accel() = default;
+
+void Accel::sceneGone() {
+  throw Error("the scene this accel was built on was destroyed or moved: build a new accel on the scene "
+              "that holds the geometry now");
+}
+
+const Scene& Accel::scene() const {
+  checkScene();
+  return *scene_;
+}
 
 
 std::unique_ptr<Accel> Accel::build(const Scene& scene, const BuildOptions& options) {
@@ -108,9 +119,13 @@ void Accel::construct() {
   invalidRays_ = 0;
 }
 
-void Accel::rebuild() { construct(); }
+void Accel::rebuild() {
+  checkScene();
+  construct();
+}
 
 bool Accel::refit() {
+  checkScene();
   scene_->validate(options_.maxInstanceDepth);
   if (structure_ && structure_->refit()) return true;
   construct();
@@ -118,6 +133,7 @@ bool Accel::refit() {
 }
 
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  checkScene();
   hit = Hit();
   if (!isValidRay(ray)) {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
@@ -130,6 +146,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool Accel::occluded(const Ray& ray) const {
+  checkScene();
   if (!isValidRay(ray)) {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
     return false;
@@ -139,6 +156,7 @@ bool Accel::occluded(const Ray& ray) const {
 }
 
 bool Accel::intersect(const Ray& ray, Hit& hit, TraversalCounters& counters) const {
+  checkScene();
   hit = Hit();
   if (!isValidRay(ray)) {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
@@ -157,6 +175,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit, TraversalCounters& counters) con
 
 void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
   if (hits.size() < rays.size()) throw Error("intersect: fewer hits than rays");
+  checkScene();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) intersect(rays[i], hits[i]);
   });
@@ -164,17 +183,20 @@ void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
 
 void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> out) const {
   if (out.size() < rays.size()) throw Error("occluded: fewer results than rays");
+  checkScene();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
   });
 }
 
 uint32_t Accel::clusterOf(uint32_t geomID, uint32_t primID) const {
+  checkScene();
   if (geomID >= scene_->numGeometries() || primID >= scene_->geometry(geomID).numPrimitives()) return kInvalidId;
   return structure_->clusterOf({geomID, primID});
 }
 
 AccelStats Accel::stats() const {
+  checkScene();
   AccelStats s;
   structure_->fillStats(s);
   built_->context.addChildStats(s);

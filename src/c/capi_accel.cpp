@@ -148,4 +148,66 @@ int mbrtOccludedM(MBRTAccel accel, const MBRTRay* rays, uint8_t* occluded, size_
   });
 }
 
+namespace {
+void checkSoA(const MBRTRaySoA* r, size_t count) {
+  require(r != nullptr, "rays is NULL");
+  require(count == 0 || (r->orgX && r->orgY && r->orgZ && r->dirX && r->dirY && r->dirZ),
+          "rays: orgX, orgY, orgZ, dirX, dirY and dirZ must not be NULL");
+}
+
+mbrt::Ray soaRay(const MBRTRaySoA& r, size_t i) {
+  mbrt::Ray ray;
+  ray.org = {r.orgX[i], r.orgY[i], r.orgZ[i]};
+  ray.dir = {r.dirX[i], r.dirY[i], r.dirZ[i]};
+  if (r.tnear) ray.tnear = r.tnear[i];
+  if (r.tfar) ray.tfar = r.tfar[i];
+  if (r.time) ray.time = r.time[i];
+  if (r.mask) ray.mask = r.mask[i];
+  return ray;
+}
+
+void storeSoA(const mbrt::Hit& h, const MBRTHitSoA& o, size_t i) {
+  o.t[i] = h.t;
+  o.geomID[i] = h.geomID;
+  o.primID[i] = h.primID;
+  if (o.u) o.u[i] = h.u;
+  if (o.v) o.v[i] = h.v;
+  if (o.ngX) o.ngX[i] = h.Ng.x;
+  if (o.ngY) o.ngY[i] = h.Ng.y;
+  if (o.ngZ) o.ngZ[i] = h.Ng.z;
+  if (o.instID) o.instID[i] = h.instID;
+}
+}  // namespace
+
+int mbrtIntersectSoA(MBRTAccel accel, const MBRTRaySoA* rays, const MBRTHitSoA* hits, size_t count) {
+  return guarded(deviceOf(accel), 0, "mbrtIntersectSoA", [&] {
+    checkAccel(accel);
+    checkSoA(rays, count);
+    require(hits != nullptr, "hits is NULL");
+    require(count == 0 || (hits->t && hits->geomID && hits->primID), "hits: t, geomID and primID must not be NULL");
+    const mbrt::Accel& a = *accel->accel;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        mbrt::Hit h;
+        a.intersect(soaRay(*rays, i), h);
+        storeSoA(h, *hits, i);
+      }
+    });
+    return 1;
+  });
+}
+
+int mbrtOccludedSoA(MBRTAccel accel, const MBRTRaySoA* rays, uint8_t* occluded, size_t count) {
+  return guarded(deviceOf(accel), 0, "mbrtOccludedSoA", [&] {
+    checkAccel(accel);
+    checkSoA(rays, count);
+    require(count == 0 || occluded, "occluded is NULL");
+    const mbrt::Accel& a = *accel->accel;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) occluded[i] = a.occluded(soaRay(*rays, i)) ? 1 : 0;
+    });
+    return 1;
+  });
+}
+
 }  // extern "C"

@@ -44,6 +44,24 @@ void Geometry::setSteps(uint32_t steps, TimeRange range) {
   stepScale_ = steps > 1 ? float(steps - 1) / range.size() : 0.0f;
 }
 
+// Both objects get fresh lifetimes: accels on either one expire (scene.h).
+Scene::Scene(Scene&& other) : geometries_(std::move(other.geometries_)), version_(other.version_ + 1) {
+  other.geometries_.clear();
+  other.lifetime_ = std::make_shared<const int>(0);
+  ++other.version_;
+}
+
+Scene& Scene::operator=(Scene&& other) {
+  if (this == &other) return *this;
+  geometries_ = std::move(other.geometries_);
+  version_ = std::max(version_, other.version_) + 1;
+  lifetime_ = std::make_shared<const int>(0);
+  other.geometries_.clear();
+  other.lifetime_ = std::make_shared<const int>(0);
+  ++other.version_;
+  return *this;
+}
+
 Geometry& Scene::add(GeometryType type) {
   geometries_.push_back(std::make_unique<Geometry>());
   geometries_.back()->type_ = type;

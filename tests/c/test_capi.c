@@ -716,6 +716,68 @@ static void testBatched(void) {
   mbrtReleaseDevice(device);
 }
 
+/* Struct-of-arrays batches give the array-of-structs answers; missing
+ * required arrays are errors. */
+static void testSoA(void) {
+  enum { kRays = 20000 };
+  static MBRTRay rays[kRays];
+  static MBRTHit hits[kRays];
+  static uint8_t occluded[kRays], occludedSoA[kRays];
+  static float c[9][kRays], ht[kRays], hu[kRays], hv[kRays], ng[3][kRays];
+  static uint32_t masks[kRays], geom[kRays], prim[kRays], inst[kRays];
+  MBRTDevice device = mbrtNewDevice();
+  RandomScene rs = makeRandomScene(device);
+  MBRTAccel accel = mbrtNewAccel(rs.top, "stbvh", NULL);
+  MBRTRaySoA soa;
+  MBRTHitSoA out = {ht, hu, hv, ng[0], ng[1], ng[2], geom, prim, inst};
+  MBRTHitSoA partial = {ht, NULL, NULL, NULL, NULL, NULL, geom, prim, NULL};
+  size_t i, wrong = 0;
+  randomRays(rays, kRays, -1.0f);
+  for (i = 0; i < kRays; ++i) {
+    int k;
+    for (k = 0; k < 3; ++k) c[k][i] = rays[i].org[k], c[3 + k][i] = rays[i].dir[k];
+    c[6][i] = rays[i].tnear, c[7][i] = rays[i].tfar, c[8][i] = rays[i].time;
+    masks[i] = rays[i].mask;
+  }
+  soa.orgX = c[0], soa.orgY = c[1], soa.orgZ = c[2], soa.dirX = c[3], soa.dirY = c[4], soa.dirZ = c[5];
+  soa.tnear = c[6], soa.tfar = c[7], soa.time = c[8], soa.mask = masks;
+  CHECK(mbrtIntersectM(accel, rays, hits, kRays) == 1);
+  CHECK(mbrtOccludedM(accel, rays, occluded, kRays) == 1);
+  CHECK(mbrtIntersectSoA(accel, &soa, &out, kRays) == 1);
+  CHECK(mbrtOccludedSoA(accel, &soa, occludedSoA, kRays) == 1);
+  for (i = 0; i < kRays; ++i) {
+    const MBRTHit* h = &hits[i];
+    if (memcmp(&h->t, &ht[i], 4) || memcmp(&h->u, &hu[i], 4) || memcmp(&h->v, &hv[i], 4) ||
+        memcmp(&h->ng[0], &ng[0][i], 4) || memcmp(&h->ng[1], &ng[1][i], 4) || memcmp(&h->ng[2], &ng[2][i], 4) ||
+        h->geomID != geom[i] || h->primID != prim[i] || h->instID != inst[i] || occluded[i] != occludedSoA[i])
+      ++wrong;
+  }
+  CHECK(wrong == 0);
+  /* Optional fields: NULL ray fields are the defaults, NULL hit fields are skipped. */
+  soa.tnear = NULL, soa.tfar = NULL, soa.mask = NULL;
+  CHECK(mbrtIntersectSoA(accel, &soa, &partial, kRays) == 1);
+  for (i = 0, wrong = 0; i < kRays; ++i)
+    if (rays[i].tnear == 0.0f && rays[i].mask == 0xFFFFFFFFu && isinf(rays[i].tfar) &&
+        (geom[i] != hits[i].geomID || prim[i] != hits[i].primID))
+      ++wrong;
+  CHECK(wrong == 0);
+  CHECK_ERROR(device, MBRT_ERROR_NONE, "");
+  soa.dirY = NULL;
+  CHECK(mbrtIntersectSoA(accel, &soa, &out, kRays) == 0);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "must not be NULL");
+  CHECK(mbrtOccludedSoA(accel, NULL, occludedSoA, kRays) == 0);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "rays is NULL");
+  soa.dirY = c[4];
+  partial.primID = NULL;
+  CHECK(mbrtIntersectSoA(accel, &soa, &partial, kRays) == 0);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "primID must not be NULL");
+  CHECK(mbrtIntersectSoA(NULL, &soa, &out, kRays) == 0);
+  mbrtReleaseAccel(accel);
+  mbrtReleaseScene(rs.top);
+  mbrtReleaseScene(rs.child);
+  mbrtReleaseDevice(device);
+}
+
 /* Many threads trace the same accel at once and get the single-threaded
  * answers. */
 enum { kThreadRays = 20000, kThreads = 8 };
@@ -818,7 +880,8 @@ static const Case kCases[] = {
     {"release_in_use", testReleaseInUse}, {"frozen_scene", testFrozenScene},
     {"time_range_and_mask", testTimeRangeAndMask}, {"srt_instances", testSrtInstances},
     {"filters", testFilters},         {"agreement", testAgreement},
-    {"batched", testBatched},         {"threads", testThreads},
+    {"batched", testBatched},         {"soa", testSoA},
+    {"threads", testThreads},
     {"stats", testStats},             {"memory_budget", testMemoryBudget},
 };
 

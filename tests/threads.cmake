@@ -1,0 +1,10 @@
+# mbrt_thread_tests: the concurrent tracing tests (tests/threads/), on the
+# kernel library alone, so that a ThreadSanitizer build
+# (-DMBRT_SANITIZE=thread, scripts/test-tsan.sh) needs to compile only
+# mbrt_accel and this target.
+add_executable(mbrt_thread_tests ${PROJECT_SOURCE_DIR}/tests/threads/test_concurrent_trace.cpp)
+target_include_directories(mbrt_thread_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests)
+target_link_libraries(mbrt_thread_tests PRIVATE mbrt::accel GTest::gtest GTest::gtest_main)
+target_compile_options(mbrt_thread_tests PRIVATE ${MBRT_ISA_FLAGS})
+target_compile_definitions(mbrt_thread_tests PRIVATE MBRT_DEFAULT_TEST_SCALE=${MBRT_DEFAULT_TEST_SCALE})
+add_test(NAME threads.concurrent_trace COMMAND mbrt_thread_tests)
