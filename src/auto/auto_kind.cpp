@@ -6,6 +6,7 @@
 
 #include "auto/auto_plan.h"
 #include "auto/object_choice.h"
+#include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
 namespace {
@@ -30,14 +31,16 @@ class AutoStructure final : public Structure {
   explicit AutoStructure(const SceneContext& ctx);
 
   bool intersect(RayQuery& ray, Hit& hit) const override {
+    const float tfar = ray.tfar;
     if (!trace_->intersect(ray, hit)) return false;
-    if (remap_) remapHit(ray.time, hit);
+    if (remap_) remapHit(ray, tfar, hit);
     return true;
   }
   bool occluded(RayQuery& ray) const override { return trace_->occluded(ray); }
   bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& counters) const override {
+    const float tfar = ray.tfar;
     if (!trace_->intersectCounted(ray, hit, counters)) return false;
-    if (remap_) remapHit(ray.time, hit);
+    if (remap_) remapHit(ray, tfar, hit);
     return true;
   }
   void fillStats(AccelStats& s) const override;
@@ -55,7 +58,7 @@ class AutoStructure final : public Structure {
     const std::vector<uint32_t>* prims;
   };
 
-  void remapHit(float time, Hit& hit) const;
+  void remapHit(RayQuery& ray, float tfar, Hit& hit) const;
   StructureFactory childFactory();
   void addRigid(const RigidPart& part);
   void addWorld();
@@ -223,15 +226,29 @@ std::string AutoStructure::describeWorld() const {
   return s;
 }
 
-void AutoStructure::remapHit(float time, Hit& hit) const {
+// An extracted part's hit is tested again on the original triangle with the
+// world-space ray, so that t, u, v and Ng are the mesh's own (in the rest
+// frame, the float transform of a grazing ray moves t by ~1e-7 / cos).
+// Where the world test misses (the ray passes within the fit's residual of
+// an edge), the instance's hit stands, its normal as the mesh's: cof(M) n =
+// det(M) M^-T n.
+void AutoStructure::remapHit(RayQuery& ray, float tfar, Hit& hit) const {
   if (hit.instID >= topMap_.size()) return;
   const TopEntry& e = topMap_[hit.instID];
   switch (e.type) {
     case ObjectType::Rigid: {
-      // The instance gives the normal as M^-T n; the mesh's is cof(M) n = det(M) M^-T n.
-      hit.Ng = hit.Ng * topScene_->geometry(hit.instID).transformAt(time).determinant();
+      const uint32_t primID = e.prims ? (*e.prims)[hit.primID] : hit.primID;
+      RayQuery world = ray;
+      world.tfar = tfar;
+      Hit exact;
+      if (leaf_detail::candidate(ctx_.geometry(e.geomID), {e.geomID, primID}, world, exact)) {
+        hit = exact;
+        ray.tfar = exact.t;
+        break;
+      }
+      hit.Ng = hit.Ng * topScene_->geometry(hit.instID).transformAt(ray.time).determinant();
       hit.geomID = e.geomID;
-      if (e.prims) hit.primID = (*e.prims)[hit.primID];
+      hit.primID = primID;
       hit.instID = kInvalidId;
       break;
     }
