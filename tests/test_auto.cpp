@@ -11,6 +11,7 @@
 #include "auto_scene.h"
 #include "mixed_scene.h"
 #include "oracle.h"
+#include "test_util.h"
 
 using namespace mbrt;
 
@@ -127,7 +128,7 @@ TEST(AutoOracle, AgreesWithBruteOnRigidDeformingFilteredAndInstancedGeometry) {
   BuildOptions bo;
   bo.kind = AccelKind::Brute;
   auto oracle = Accel::build(*ps.scene, bo);
-  const std::vector<Ray> rays = test::oracleRays(ps, 2500, 40, 11);
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2500, 300), test::scaled(40, 5), 11);
   for (int branching : {2, 8}) {
     auto tested = buildAuto(*ps.scene, 1e-5f, branching);
     EXPECT_NE(tested->stats().objects.find("rigid"), std::string::npos) << tested->stats().objects;
@@ -151,7 +152,7 @@ TEST(AutoOracle, AgreesWithBruteOnTheMixedScene) {
   BuildOptions bo;
   bo.kind = AccelKind::Brute;
   auto oracle = Accel::build(*ps.scene, bo);
-  const std::vector<Ray> rays = test::oracleRays(ps, 2000, 30, 5);
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 5);
   for (AccelKind leaf : {AccelKind::BvhInterp, AccelKind::Stbvh, AccelKind::Msbvh}) {
     BuildOptions o;
     o.kind = AccelKind::Auto;

@@ -9,6 +9,7 @@
 
 #include "auto_near_edge.h"
 #include "auto_scene.h"
+#include "test_util.h"
 
 using namespace mbrt;
 
@@ -19,7 +20,7 @@ TEST(AutoTolerance, DisagreementsAreNearEdgesAndVanishAsTheToleranceGoesToZero) 
   BuildOptions bo;
   bo.kind = AccelKind::Brute;
   auto oracle = Accel::build(*ps.scene, bo);
-  const std::vector<Ray> rays = test::oracleRays(ps, 3000, 40, 17);
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(3000, 1000), test::scaled(40, 10), 17);
   const float diagonal = length(Vec3f(2.2f));
   size_t previous = ~size_t(0);
   for (float tolerance : {3e-2f, 1e-5f, 0.0f}) {
