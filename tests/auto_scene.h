@@ -73,7 +73,7 @@ inline std::vector<Affine3f> turnKeys(uint32_t steps, Vec3f pivot, Vec3f axis, f
 // piece, 2 deforming, 3 static with filter, 4 nearly rigid (noise), 5
 // segments, 6 rigid with filter, 7 user instance (its scene: a rigid blob
 // and a static one).
-inline ProceduralScene autoTestScene(float noise = 0.0f, int n = 8) {
+inline ProceduralScene autoTestScene(float noise = 0.0f, int n = 10) {
   auto top = std::make_shared<Scene>();
   {
     MeshParts m;

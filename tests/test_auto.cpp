@@ -165,4 +165,16 @@ TEST(AutoOracle, AgreesWithBruteOnTheMixedScene) {
   }
 }
 
+// Where nothing is extracted, the chosen kind is built over the scene
+// itself (not the oracle that stands in below user instances).
+TEST(AutoChoice, DeformingScenesGetARealStructure) {
+  for (const char* name : {"deform", "hair", "hairball"}) {
+    const ProceduralScene ps = makeProceduralScene(name, 0.01, 3);
+    auto accel = buildAuto(*ps.scene);
+    const AccelStats s = accel->stats();
+    EXPECT_GT(s.innerNodes, 0u) << name << ": " << s.objects;
+    EXPECT_EQ(s.objects.find("kind brute"), std::string::npos) << name << ": " << s.objects;
+  }
+}
+
 }  // namespace

@@ -107,7 +107,7 @@ AutoStructure::AutoStructure(const SceneContext& ctx) : ctx_(ctx), leafOptions_(
 
 // Nothing rigid to extract: the whole scene is one object.
 void AutoStructure::buildDirect() {
-  objects_.push_back(buildObject(ctx_.scene(), leafOptions_, ctx_.budget(), childFactory()));
+  objects_.push_back(buildObject(ctx_.scene(), leafOptions_, ctx_.budget(), ctx_.structureFactory(), childFactory()));
   trace_ = objects_.back().structure.get();
   lines_.push_back("object 0: the whole scene, nothing rigid extracted (" + describeWorld() + "); kind " +
                    std::string(toString(objects_.back().kind)) + ": " + objects_.back().why);
@@ -137,7 +137,7 @@ void AutoStructure::addRigid(const RigidPart& part) {
   for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
   auto child = std::make_shared<Scene>();
   child->addTriangleMesh(std::move(tris), std::vector<VertexBuffer>{g.vertices(0)});
-  objects_.push_back(buildObject(*child, leafOptions_, ctx_.budget(), ctx_.structureFactory()));
+  objects_.push_back(buildObject(*child, leafOptions_, ctx_.budget(), ctx_.structureFactory(), ctx_.structureFactory()));
   pending_[child.get()] = std::move(objects_.back().structure);
   const uint32_t id = topScene_->addInstance(child, part.fit.keys, g.timeRange());
   topScene_->setMask(id, g.mask());
@@ -187,7 +187,7 @@ void AutoStructure::addWorld() {
     }
     worldMap_.push_back({part.geomID, prims});
   }
-  objects_.push_back(buildObject(*world, leafOptions_, ctx_.budget(), ctx_.structureFactory()));
+  objects_.push_back(buildObject(*world, leafOptions_, ctx_.budget(), ctx_.structureFactory(), ctx_.structureFactory()));
   pending_[world.get()] = std::move(objects_.back().structure);
   const uint32_t id = topScene_->addInstance(world, std::vector<Affine3f>{Affine3f()});
   scenes_.push_back(std::move(world));

@@ -15,7 +15,7 @@ void planPieces(const Geometry& g, uint32_t geomID, double tolerance, AutoPlan& 
     std::vector<std::vector<uint32_t>> pieces(count);
     for (uint32_t t = 0; t < pieceOf.size(); ++t) pieces[pieceOf[t]].push_back(t);
     for (std::vector<uint32_t>& piece : pieces) {
-      if (piece.size() >= kMinRigidTriangles) {
+      if (piece.size() >= kMinRigidPieceTriangles) {
         PartFit fit = fitPart(g, usedVertices(g, piece), tolerance);
         if (fit.fits && fit.moves) {
           plan.rigid.push_back({geomID, std::move(piece), std::move(fit)});

@@ -18,8 +18,12 @@
 namespace mbrt::detail {
 
 // Parts with fewer triangles stay world-space: an instance costs a ray
-// transform per visit, which a handful of triangles does not repay.
+// transform per visit, which a handful of triangles does not repay. Pieces
+// of a mesh need more: many small instances overlap in the top level where
+// the mesh's own linear bounds serve them (measured: hairball and skinned
+// slowed by pieces of 16-72 triangles, docs/auto.md).
 constexpr uint32_t kMinRigidTriangles = 8;
+constexpr uint32_t kMinRigidPieceTriangles = 256;
 
 struct RigidPart {
   uint32_t geomID = 0;

@@ -32,13 +32,13 @@ std::string number(double v) {
 }
 
 BuiltObject buildKind(const Scene& scene, const BuildOptions& options, AccelKind kind, BuildBudget& budget,
-                      const StructureFactory& factory) {
+                      const StructureFactory& registry, const StructureFactory& children) {
   BuildOptions o = options;
   o.kind = kind;
   BuiltObject b;
   b.kind = kind;
-  b.context = std::make_unique<SceneContext>(scene, o, budget, factory);
-  b.structure = factory(*b.context);
+  b.context = std::make_unique<SceneContext>(scene, o, budget, children);
+  b.structure = registry(*b.context);
   AccelStats s;
   b.structure->fillStats(s);
   b.context->addChildStats(s);
@@ -61,15 +61,15 @@ bool frozenServesAllTimes(const Scene& scene) {
 }  // namespace
 
 BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBudget& budget,
-                        const StructureFactory& factory) {
+                        const StructureFactory& registry, const StructureFactory& children) {
   if (options.autoLeafKind) {
-    BuiltObject b = buildKind(scene, options, *options.autoLeafKind, budget, factory);
+    BuiltObject b = buildKind(scene, options, *options.autoLeafKind, budget, registry, children);
     b.why = "forced by the leaf-kind option";
     return b;
   }
   if (scene.maxSegments() == 0) {
     const bool frozen = frozenServesAllTimes(scene);
-    BuiltObject b = buildKind(scene, options, frozen ? AccelKind::Frozen : AccelKind::BvhInterp, budget, factory);
+    BuiltObject b = buildKind(scene, options, frozen ? AccelKind::Frozen : AccelKind::BvhInterp, budget, registry, children);
     b.why = frozen ? "static: a BVH with one box per node serves every time"
                    : "static, with partial time ranges or instances: linear bounds";
     return b;
@@ -77,7 +77,7 @@ BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBu
   std::vector<BuiltObject> trials;
   size_t leastBytes = ~size_t(0);
   for (AccelKind k : kMovingCandidates) {
-    trials.push_back(buildKind(scene, options, k, budget, factory));
+    trials.push_back(buildKind(scene, options, k, budget, registry, children));
     leastBytes = std::min(leastBytes, trials.back().bytes);
   }
   size_t best = 0;

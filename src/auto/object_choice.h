@@ -20,9 +20,10 @@ struct BuiltObject {
 };
 
 // Builds `scene`'s structure of the chosen kind (options.autoLeafKind when
-// set). Children of instances are made by `factory`.
+// set) with `registry` (the kind registry); the structures of its
+// instanced scenes are made by `children`.
 BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBudget& budget,
-                        const StructureFactory& factory);
+                        const StructureFactory& registry, const StructureFactory& children);
 
 // A structure owned elsewhere, traced through this one: instanced scenes
 // whose structures the enclosing context already built.
