@@ -97,22 +97,22 @@ mbrt_cli_test(cli.trace_file
   FIXTURES_REQUIRED cli_rays
   ARGS trace ${MBRT_CLI_SCENE} --accel brute --rays ${O}/rays.bin --hits ${O}/hits2.bin)
 
-# A moving built-in scene with the default structure (stbvh, as every
+# A moving built-in scene with the default structure (auto, as every
 # subcommand's default), and its ray file traced again.
 mbrt_cli_test(cli.trace_procedural
   SETUP "rm -f ${O}/translate_rays.bin ${O}/translate_hits.bin"
-  OUT "^accel +stbvh," "rays +1000: [1-9][0-9]* hits, [0-9]+ misses, 0 invalid"
+  OUT "^accel +auto," "rays +1000: [1-9][0-9]* hits, [0-9]+ misses, 0 invalid"
   CHECK "rays ${O}/translate_rays.bin 1000" "hits ${O}/translate_hits.bin 1000"
   FIXTURES_SETUP cli_translate_rays
   ARGS trace --scene translate --size 0.005 --generate 1000
        --rays ${O}/translate_rays.bin --hits ${O}/translate_hits.bin)
 mbrt_cli_test(cli.trace_procedural_file
   SETUP "rm -f ${O}/translate_hits2.bin"
-  OUT "^accel +stbvh,"
+  OUT "^accel +auto,"
   CHECK "same ${O}/translate_hits.bin ${O}/translate_hits2.bin"
   FIXTURES_REQUIRED cli_translate_rays
-  ARGS trace translate --size 0.005 --accel stbvh --rays ${O}/translate_rays.bin --hits ${O}/translate_hits2.bin)
-mbrt_cli_test(cli.stats_default_kind OUT "^kind +stbvh " ARGS stats translate --size 0.005)
+  ARGS trace translate --size 0.005 --accel auto --rays ${O}/translate_rays.bin --hits ${O}/translate_hits2.bin)
+mbrt_cli_test(cli.stats_default_kind OUT "^kind +auto " "^object 0: geometry 0, all [0-9]+ triangles: rigid" ARGS stats translate --size 0.005)
 
 mbrt_cli_test(cli.render
   SETUP "rm -rf ${O}/render && mkdir ${O}/render"
@@ -128,7 +128,7 @@ mbrt_cli_test(cli.stats_obj_sequence OUT "OBJ sequence: 2 keys" "^primitives +"
 # ---- `mbrt render`: the demo by default, heat maps, EXR ---------------------
 mbrt_cli_test(cli.render_default_demo
   SETUP "rm -f ${O}/demo.png"
-  OUT "^scene +demo" "^accel +stbvh," "^render +stbvh: 32x24, 1 spp.*Mrays/s" "^wrote +.*demo.png$"
+  OUT "^scene +demo" "^accel +auto," "^render +auto: 32x24, 1 spp.*Mrays/s" "^wrote +.*demo.png$"
   CHECK "image ${O}/demo.png 32 24 nonblack"
   ARGS render --size 0.25 --width 32 --height 24 --spp 1 -o ${O}/demo.png)
 mbrt_cli_test(cli.render_positional_heat

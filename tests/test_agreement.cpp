@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <map>
 
+#include "auto_near_edge.h"
 #include "oracle.h"
 #include "reference_check.h"
 #include "test_util.h"
@@ -98,8 +99,16 @@ TEST(Agreement, MillionRaysPerStructureAgainstBrute) {
       auto& tot = total[kname];
       tot.rays += rep.rays, tot.hits += rep.hits, tot.ties += rep.ties, tot.wrong += rep.wrong,
           tot.anyWrong += rep.anyWrong;
-      // Embree's differences are settled by the reference (below).
-      if (kind != AccelKind::Embree) {
+      if (kind == AccelKind::Auto && rep.wrong + rep.anyWrong > 0) {
+        // The one exception for auto: rays within the fit tolerance
+        // of an edge of an extracted part (auto_near_edge.h); none other.
+        const test::Explained e = test::classifyNearEdge(*ps.scene, *oracle, *tested,
+                                                         test::disagreeing(ref, *tested, rays),
+                                                         2e-5f * length(sceneBounds(*ps.scene).size()) + 1e-6f);
+        std::printf("agreement %s auto: %zu rays near an edge, %zu at a t within the fit tolerance\n",
+                    sc.name, e.nearEdge, e.offset);
+        EXPECT_EQ(e.unexplained, 0u) << sc.name << " auto: " << rep.firstFailure;
+      } else if (kind != AccelKind::Embree) {  // Embree's differences are settled by the reference (below)
         EXPECT_EQ(rep.wrong, 0u) << sc.name << " " << kname << ": " << rep.firstFailure;
         EXPECT_EQ(rep.anyWrong, 0u) << sc.name << " " << kname;
       }

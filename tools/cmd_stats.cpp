@@ -67,7 +67,8 @@ void run(StatsArgs& args) {
     std::printf("  \"peakBuildBytes\": %zu,\n", s.peakBuildBytes);
     std::printf("  \"sahCost\": %.17g,\n", s.sahCost);
     std::printf("  \"buildSeconds\": %.9g,\n", s.buildSeconds);
-    std::printf("  \"invalidRays\": %llu\n", (unsigned long long)s.invalidRays);
+    std::printf("  \"invalidRays\": %llu,\n", (unsigned long long)s.invalidRays);
+    std::printf("  \"objects\": %s\n", jsonString(s.objects).c_str());
     std::printf("}\n");
     return;
   }
@@ -86,6 +87,7 @@ void run(StatsArgs& args) {
   std::printf("build time       %.6f s", s.buildSeconds);
   if (s.buildSeconds > 0) std::printf(" (%.3g Mprims/s)", s.primitives / s.buildSeconds * 1e-6);
   std::printf("\ninvalid rays     %llu\n", (unsigned long long)s.invalidRays);
+  if (!s.objects.empty()) std::printf("%s", s.objects.c_str());  // auto: per object, what and why
 }
 
 }  // namespace

@@ -23,10 +23,10 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The structure every subcommand builds when no --accel is given (a later
-// `auto` kind is to replace it). buildAccel falls back to brute, with a note,
-// when this build lacks it.
-constexpr AccelKind kDefaultAccelKind = AccelKind::Stbvh;
+// The structure every subcommand builds when no --accel is given: `auto`
+// picks one per object (docs/auto.md). buildAccel falls back to brute, with
+// a note, when this build lacks it.
+constexpr AccelKind kDefaultAccelKind = AccelKind::Auto;
 
 // The end of a command that finished its output but must not report
 // success: interrupted by SIGINT (130) or SIGTERM (143) after writing what

@@ -22,6 +22,9 @@ struct AccelStats {
   double sahCost = 0.0;
   double buildSeconds = 0.0;
   uint64_t invalidRays = 0;     // rays refused since the build
+  // Kinds that split the scene into objects (auto): one line per object,
+  // what was extracted, its residual, the kind chosen and why.
+  std::string objects;
 };
 
 // Per-ray work, for the papers' metrics (DESIGN.md): nodes visited, box tests

@@ -165,7 +165,8 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes);
 
 // The best mbrt row of a scene on a set (fastest on all threads; not a peer,
 // not a frozen row unless the set is Frozen), or none.
-const Result* bestMbrt(const Report& report, const std::string& scene, RaySet set);
+// singleKinds: leave out `auto`, which combines kinds.
+const Result* bestMbrt(const Report& report, const std::string& scene, RaySet set, bool singleKinds = false);
 // Per set, per peer that ran: primary/secondary/shadow over embree and
 // embree-robust, frozen over embree-static.
 std::vector<Geomean> geomeans(const Report& report);

@@ -19,6 +19,7 @@ enum class AccelKind {
   Mbkd,         // Yang et al. 2017
   FuzzyKd,      // Günther et al. 2006
   Embree,       // Intel Embree 3, when built in
+  Auto,         // rigid motion extracted into instances, a kind chosen per object (docs/auto.md)
 };
 
 std::string_view toString(AccelKind kind);
@@ -41,6 +42,12 @@ struct BuildOptions {
   // frozen at frozenTime). A field, not kinds: no test that walks every kind
   // meets a non-watertight structure, and no kind list changes.
   enum class EmbreeMode : uint8_t { Robust, Default, Static } embreeMode = EmbreeMode::Robust;
+  // `auto` only: a part becomes an instance when one affine key per step
+  // reproduces every vertex within this fraction of the part's diagonal
+  // (0: only exact fits), and the kind of every object below the top level
+  // (none: chosen per object by cost).
+  float autoFitTolerance = 1e-5f;
+  std::optional<AccelKind> autoLeafKind;
 };
 
 }  // namespace mbrt

@@ -103,6 +103,9 @@ std::unique_ptr<Accel> Accel::build(const Scene& scene, const BuildOptions& opti
   if (!(options.frozenTime >= 0.0f && options.frozenTime <= 1.0f))
     throw Error("frozen time must be in [0, 1]");
   if (!(options.traversalCost > 0.0f)) throw Error("traversal cost must be positive");
+  if (!(options.autoFitTolerance >= 0.0f && options.autoFitTolerance < 1.0f))
+    throw Error("auto fit tolerance must be in [0, 1)");
+  if (options.autoLeafKind == AccelKind::Auto) throw Error("the leaf kind of auto cannot be auto");
   std::unique_ptr<Accel> accel(new Accel(scene, options));
   accel->construct();
   return accel;

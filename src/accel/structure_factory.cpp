@@ -4,6 +4,7 @@
 #include "accel/structure_factory.h"
 
 #include "accel/brute.h"
+#include "auto/auto_kind.h"
 #include "bvh/kinds/bvh_interp.h"
 #include "bvh/kinds/bvh_segments.h"
 #include "bvh/kinds/frozen.h"
@@ -23,7 +24,7 @@ struct KindName {
   AccelKind kind;
   std::string_view name;
 };
-constexpr std::array<KindName, 9> kNames{{{AccelKind::Brute, "brute"},
+constexpr std::array<KindName, 10> kNames{{{AccelKind::Brute, "brute"},
                                           {AccelKind::BvhInterp, "bvh-interp"},
                                           {AccelKind::BvhSegments, "bvh-segments"},
                                           {AccelKind::Frozen, "frozen"},
@@ -31,7 +32,8 @@ constexpr std::array<KindName, 9> kNames{{{AccelKind::Brute, "brute"},
                                           {AccelKind::Msbvh, "msbvh"},
                                           {AccelKind::Mbkd, "mbkd"},
                                           {AccelKind::FuzzyKd, "fuzzykd"},
-                                          {AccelKind::Embree, "embree"}}};
+                                          {AccelKind::Embree, "embree"},
+                                          {AccelKind::Auto, "auto"}}};
 
 }  // namespace
 
@@ -53,6 +55,7 @@ std::vector<AccelKind> availableAccelKinds() {
 #ifdef MBRT_HAVE_EMBREE
   kinds.push_back(AccelKind::Embree);
 #endif
+  kinds.push_back(AccelKind::Auto);
   return kinds;
 }
 
@@ -76,6 +79,8 @@ std::unique_ptr<Structure> makeStructure(const SceneContext& context) {
       return makeMbkd(context);
     case AccelKind::FuzzyKd:
       return makeFuzzyKd(context);
+    case AccelKind::Auto:
+      return makeAuto(context);
 #ifdef MBRT_HAVE_EMBREE
     case AccelKind::Embree:
       return makeEmbree(context);

@@ -11,10 +11,11 @@
 
 namespace mbrt::bench {
 
-const Result* bestMbrt(const Report& report, const std::string& scene, RaySet set) {
+const Result* bestMbrt(const Report& report, const std::string& scene, RaySet set, bool singleKinds) {
   const Result* best = nullptr;
   for (const Result& r : report.results) {
     if (r.scene != scene || r.peer || r.frozen != (set == RaySet::Frozen)) continue;
+    if (singleKinds && r.accel == "auto") continue;  // auto combines kinds
     const SetResult& s = r.set(set);
     if (!s.traced || !(s.mraysMt > 0)) continue;
     if (!best || s.mraysMt > best->set(set).mraysMt) best = &r;
@@ -113,6 +114,11 @@ void sceneTable(std::ostringstream& out, const Report& report, const SceneInfo& 
   }
   if (const Result* best = bestMbrt(report, scene, RaySet::Secondary))
     out << "\nBest mbrt kind on the secondary set: `" << best->accel << "`.\n";
+  const Result* single = bestMbrt(report, scene, RaySet::Secondary, true);
+  if (const Result* a = find(report, scene, "auto"); a && single && single->bytes && single->buildS > 0)
+    out << "\n`auto` ÷ the best single kind (`" << single->accel << "`): secondary rays/s "
+        << setRatio(*a, single, RaySet::Secondary) << ", memory " << fmt(double(a->bytes) / double(single->bytes))
+        << ", build time " << fmt(a->buildS / single->buildS) << ".\n";
   for (const Result& r : report.results) {
     std::string cut;
     for (RaySet s : kAllRaySets)

@@ -114,7 +114,8 @@ Candidate accelCandidate(AccelKind kind, EmbreeMode mode) {
 std::vector<std::string> candidateNames() {
   std::vector<std::string> names;
   for (AccelKind k : {AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen,
-                      AccelKind::Stbvh, AccelKind::Msbvh, AccelKind::Mbkd, AccelKind::FuzzyKd, AccelKind::Embree})
+                      AccelKind::Stbvh, AccelKind::Msbvh, AccelKind::Mbkd, AccelKind::FuzzyKd, AccelKind::Embree,
+                      AccelKind::Auto})
     names.push_back(std::string(toString(k)));
   names.push_back("embree-robust");
   names.push_back("embree-static");

@@ -10,7 +10,7 @@ namespace mbrt::detail {
 
 SceneContext::SceneContext(const Scene& scene, const BuildOptions& options, BuildBudget& budget,
                            const StructureFactory& makeChild)
-    : scene_(&scene), options_(options), budget_(&budget) {
+    : scene_(&scene), options_(options), budget_(&budget), makeChild_(makeChild) {
   const uint32_t n = scene.numGeometries();
   geometries_.resize(n);
   childOf_.assign(n, nullptr);

@@ -55,6 +55,9 @@ class SceneContext {
   const Geometry& geometry(uint32_t geomID) const { return *geometries_[geomID]; }
   const BuildOptions& options() const { return options_; }
   BuildBudget& budget() const { return *budget_; }
+  // The factory of instanced scenes' structures: kinds that build
+  // structures of other kinds over derived scenes (auto) use it too.
+  const StructureFactory& structureFactory() const { return makeChild_; }
 
   // Every primitive of this level, in geometry then primitive order.
   std::vector<PrimRef> primitives() const;
@@ -84,6 +87,7 @@ class SceneContext {
   const Scene* scene_;
   BuildOptions options_;
   BuildBudget* budget_;
+  StructureFactory makeChild_;
   std::vector<const Geometry*> geometries_;
   size_t numPrimitives_ = 0;
   std::map<const Scene*, Child> children_;

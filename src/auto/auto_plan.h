@@ -1,0 +1,50 @@
+// The decomposition of a scene's top level into objects (docs/auto.md):
+//  - rigid parts: a moving mesh, or a connected piece of one, whose motion
+//    one affine key per step reproduces (part_fit.h) becomes an instance of
+//    its rest pose;
+//  - user instances stay instances (their scenes are built by `auto` too);
+//  - everything else (static or deforming meshes, the pieces that fit no
+//    key, segments, meshes with filters, which must see world-space rays)
+//    stays world-space geometry, gathered into one object.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "auto/part_fit.h"
+#include "mbrt/scene.h"
+
+namespace mbrt::detail {
+
+// Parts with fewer triangles stay world-space: an instance costs a ray
+// transform per visit, which a handful of triangles does not repay. Pieces
+// of a mesh need more: many small instances overlap in the top level where
+// the mesh's own linear bounds serve them (measured: hairball and skinned
+// slowed by pieces of 16-72 triangles, docs/auto.md).
+constexpr uint32_t kMinRigidTriangles = 8;
+constexpr uint32_t kMinRigidPieceTriangles = 256;
+
+struct RigidPart {
+  uint32_t geomID = 0;
+  std::vector<uint32_t> prims;  // the part's triangles; empty: all of them
+  PartFit fit;
+};
+
+struct WorldPart {
+  uint32_t geomID = 0;
+  std::vector<uint32_t> prims;  // empty: all of the geometry's primitives
+  std::string why;              // why it stays world-space
+};
+
+struct AutoPlan {
+  std::vector<RigidPart> rigid;
+  std::vector<uint32_t> userInstances;  // geometry ids
+  std::vector<WorldPart> world;
+  bool extracts() const { return !rigid.empty(); }
+};
+
+// tolerance: relative to each part's diagonal (BuildOptions::autoFitTolerance).
+AutoPlan planDecomposition(const Scene& scene, double tolerance);
+
+}  // namespace mbrt::detail

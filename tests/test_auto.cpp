@@ -1,0 +1,180 @@
+// `auto`: rigid motion extraction (whole meshes and connected pieces), hits
+// that name the original scene's ids, agreement with brute (exact at the
+// default tolerance; near edges only, and vanishing, at coarse tolerances),
+// filters that see original ids, conservative instance bounds, options.
+#include <gtest/gtest.h>
+
+#include <atomic>
+
+#include "accel/structure_factory.h"
+#include "auto/auto_plan.h"
+#include "auto_scene.h"
+#include "mixed_scene.h"
+#include "oracle.h"
+#include "test_util.h"
+
+using namespace mbrt;
+
+namespace {
+
+const detail::RigidPart* rigidPartOf(const detail::AutoPlan& plan, uint32_t geomID) {
+  for (const auto& r : plan.rigid)
+    if (r.geomID == geomID) return &r;
+  return nullptr;
+}
+
+TEST(AutoExtraction, RigidMeshIsFoundRigidDeformingIsNotMixedMeshSplits) {
+  const ProceduralScene ps = test::autoTestScene();
+  ps.scene->setFilter(6, [](const FilterArgs&) { return true; });
+  const detail::AutoPlan plan = detail::planDecomposition(*ps.scene, 1e-5);
+  const detail::RigidPart* whole = rigidPartOf(plan, 0);
+  ASSERT_NE(whole, nullptr) << "a rigidly turning mesh is rigid";
+  EXPECT_TRUE(whole->prims.empty()) << "the whole mesh is one part";
+  EXPECT_EQ(whole->fit.keys.size(), 9u);
+  EXPECT_LT(whole->fit.maxResidual, 1e-5);
+  EXPECT_EQ(rigidPartOf(plan, 2), nullptr) << "a deforming mesh is not rigid";
+  EXPECT_EQ(rigidPartOf(plan, 3), nullptr) << "a static mesh is left as it is";
+  EXPECT_EQ(rigidPartOf(plan, 6), nullptr) << "a mesh with a filter stays world-space";
+  // Geometry 1: a rigid piece and a deforming piece.
+  const detail::RigidPart* piece = rigidPartOf(plan, 1);
+  ASSERT_NE(piece, nullptr);
+  const uint32_t half = ps.scene->geometry(1).numPrimitives() / 2;
+  ASSERT_EQ(piece->prims.size(), half);
+  for (uint32_t p : piece->prims) EXPECT_LT(p, half) << "the rigid piece is the first blob";
+  bool restOfMesh = false;
+  for (const auto& w : plan.world)
+    if (w.geomID == 1) {
+      restOfMesh = true;
+      EXPECT_EQ(w.prims.size(), half);
+      for (uint32_t p : w.prims) EXPECT_GE(p, half);
+    }
+  EXPECT_TRUE(restOfMesh) << "the deforming piece stays world-space";
+  EXPECT_EQ(plan.userInstances, std::vector<uint32_t>{7});
+}
+
+TEST(AutoExtraction, ToleranceDecidesNearlyRigidMeshes) {
+  const ProceduralScene noisy = test::autoTestScene(1e-4f);
+  EXPECT_EQ(rigidPartOf(detail::planDecomposition(*noisy.scene, 1e-5), 4), nullptr);
+  const detail::RigidPart* coarse = rigidPartOf(detail::planDecomposition(*noisy.scene, 1e-3), 4);
+  ASSERT_NE(coarse, nullptr);
+  EXPECT_GT(coarse->fit.maxResidual, 1e-5);
+  EXPECT_LE(coarse->fit.maxResidual, 1e-3);
+  EXPECT_EQ(rigidPartOf(detail::planDecomposition(*noisy.scene, 0.0), 0), nullptr)
+      << "tolerance 0 extracts only exact fits, and float rotations are not exact";
+}
+
+// Every affine key lerped and applied to the rest pose stays inside the
+// instance's linear bounds, and so does the original mesh (within the fit).
+TEST(AutoBounds, InstanceBoundsAreConservativeAtSampledTimes) {
+  const ProceduralScene ps = test::autoTestScene();
+  const detail::AutoPlan plan = detail::planDecomposition(*ps.scene, 1e-5);
+  for (const detail::RigidPart& part : plan.rigid) {
+    const Geometry& g = ps.scene->geometry(part.geomID);
+    std::vector<Triangle> tris;
+    if (part.prims.empty()) tris.assign(g.triangles().begin(), g.triangles().end());
+    for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
+    auto child = std::make_shared<Scene>();
+    child->addTriangleMesh(tris, std::vector<VertexBuffer>{g.vertices(0)});
+    Scene top;
+    top.addInstance(child, part.fit.keys, g.timeRange());
+    BuildOptions o;
+    o.kind = AccelKind::Brute;
+    detail::BuildBudget budget(0);
+    detail::SceneContext ctx(top, o, budget, detail::makeStructure);
+    const detail::PrimKeys keys = ctx.keys({0, 0});
+    const float slack = float(1e-5 * part.fit.diagonal) + 1e-6f;
+    const Geometry& inst = top.geometry(0);
+    for (int i = 0; i <= 200; ++i) {
+      const float t = g.timeRange().lo + g.timeRange().size() * float(i) / 200.0f;
+      uint32_t s;
+      float f;
+      inst.segmentAt(t, s, f);
+      const Box3f box = lerp(keys(s), keys(std::min(s + 1, inst.numSteps() - 1)), f);
+      const Affine3f m = inst.transformAt(t);
+      for (const Triangle& tri : tris)
+        for (uint32_t v : {tri.v0, tri.v1, tri.v2}) {
+          const Vec3f p = m.xfmPoint(g.vertices(0)[v]);
+          ASSERT_TRUE(box.contains(p)) << "geometry " << part.geomID << " time " << t;
+          const Vec3f q = g.vertexAt(t, v);
+          for (int a = 0; a < 3; ++a) {
+            ASSERT_GE(q[a], box.lower[a] - slack) << "geometry " << part.geomID << " time " << t;
+            ASSERT_LE(q[a], box.upper[a] + slack) << "geometry " << part.geomID << " time " << t;
+          }
+        }
+    }
+  }
+}
+
+std::unique_ptr<Accel> buildAuto(const Scene& scene, float tolerance = 1e-5f, int branching = 8) {
+  BuildOptions o;
+  o.kind = AccelKind::Auto;
+  o.autoFitTolerance = tolerance;
+  o.branching = branching;
+  return Accel::build(scene, o);
+}
+
+TEST(AutoOracle, AgreesWithBruteOnRigidDeformingFilteredAndInstancedGeometry) {
+  const ProceduralScene ps = test::autoTestScene(0.0f, 10);
+  std::atomic<int> badIds{0};
+  const uint32_t prims3 = ps.scene->geometry(3).numPrimitives(), prims6 = ps.scene->geometry(6).numPrimitives();
+  ps.scene->setFilter(3, [&](const FilterArgs& a) {
+    if (a.candidate.geomID != 3 || a.candidate.primID >= prims3 || a.candidate.instID != kInvalidId) ++badIds;
+    return a.candidate.primID % 3 != 1;
+  });
+  ps.scene->setFilter(6, [&](const FilterArgs& a) {
+    if (a.candidate.geomID != 6 || a.candidate.primID >= prims6) ++badIds;
+    return a.candidate.primID % 2 == 0;
+  });
+  BuildOptions bo;
+  bo.kind = AccelKind::Brute;
+  auto oracle = Accel::build(*ps.scene, bo);
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2500, 300), test::scaled(40, 5), 11);
+  for (int branching : {2, 8}) {
+    auto tested = buildAuto(*ps.scene, 1e-5f, branching);
+    EXPECT_NE(tested->stats().objects.find("rigid"), std::string::npos) << tested->stats().objects;
+    badIds = 0;
+    const auto rep = test::compareWithOracle(*oracle, *tested, rays);
+    EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
+    EXPECT_EQ(rep.anyWrong, 0u);
+    EXPECT_GT(rep.hits, rep.rays / 4);
+    EXPECT_EQ(badIds.load(), 0) << "filters see the original ids";
+    // Masks: geometry 0 carries mask 1 only.
+    std::vector<Ray> masked = rays;
+    for (Ray& r : masked) r.mask = 2u;
+    const auto maskedRep = test::compareWithOracle(*oracle, *tested, masked);
+    EXPECT_EQ(maskedRep.wrong, 0u) << maskedRep.firstFailure;
+    EXPECT_EQ(maskedRep.anyWrong, 0u);
+  }
+}
+
+TEST(AutoOracle, AgreesWithBruteOnTheMixedScene) {
+  const ProceduralScene ps = test::mixedScene();
+  BuildOptions bo;
+  bo.kind = AccelKind::Brute;
+  auto oracle = Accel::build(*ps.scene, bo);
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 5);
+  for (AccelKind leaf : {AccelKind::BvhInterp, AccelKind::Stbvh, AccelKind::Msbvh}) {
+    BuildOptions o;
+    o.kind = AccelKind::Auto;
+    o.autoLeafKind = leaf;
+    auto tested = Accel::build(*ps.scene, o);
+    EXPECT_NE(tested->stats().objects.find("forced"), std::string::npos);
+    const auto rep = test::compareWithOracle(*oracle, *tested, rays);
+    EXPECT_EQ(rep.wrong, 0u) << toString(leaf) << ": " << rep.firstFailure;
+    EXPECT_EQ(rep.anyWrong, 0u) << toString(leaf);
+  }
+}
+
+// Where nothing is extracted, the chosen kind is built over the scene
+// itself (not the oracle that stands in below user instances).
+TEST(AutoChoice, DeformingScenesGetARealStructure) {
+  for (const char* name : {"deform", "hair", "hairball"}) {
+    const ProceduralScene ps = makeProceduralScene(name, 0.01, 3);
+    auto accel = buildAuto(*ps.scene);
+    const AccelStats s = accel->stats();
+    EXPECT_GT(s.innerNodes, 0u) << name << ": " << s.objects;
+    EXPECT_EQ(s.objects.find("kind brute"), std::string::npos) << name << ": " << s.objects;
+  }
+}
+
+}  // namespace
