@@ -88,7 +88,7 @@ mbrt_cli_test(cli.error_render_spp CODE 2 OUT "--spp: Value -3 not in range" ARG
 mbrt_cli_test(cli.error_render_spp_huge CODE 2 OUT "mbrt: error: .*--spp" ARGS render ${S} --spp 1e12 -o ${O}/s.png)
 mbrt_cli_test(cli.error_render_total CODE 2 OUT "--width x --height x --spp = [0-9]+ camera samples is more than"
   NO_OUT "^scene" ARGS render ${S} --width 16384 --height 16384 --spp 65536 -o ${O}/t.png)
-mbrt_cli_test(cli.error_render_clusters_accel CODE 2 OUT "mbrt: error: .*fuzzykd"
+mbrt_cli_test(cli.error_render_clusters_accel CODE 2 OUT "mbrt: error: .*fuzzykd.*auto"
   ARGS render skinned --size 0.05 --accel bvh-interp --integrator clusters -o ${O}/c.png)
 mbrt_cli_test(cli.error_render_camera_shutter CODE 2 OUT "mbrt: error: .*camera-shutter"
   ARGS render demo --camera-shutter 0.7,0.2 -o ${O}/c.png)

@@ -160,6 +160,13 @@ mbrt_cli_test(cli.render_clusters
   CHECK "image ${O}/clusters.png 24 24 nonblack"
   ARGS render skinned --size 0.05 --accel fuzzykd --integrator clusters --camera-shutter 0.5,0.5
        --width 24 --height 24 --spp 1 -o ${O}/clusters.png)
+# auto's objects (instances extracted from rigid motion) in the same picture.
+mbrt_cli_test(cli.render_clusters_auto
+  SETUP "rm -f ${O}/clusters_auto.png"
+  OUT "^wrote +.*clusters_auto.png$"
+  CHECK "image ${O}/clusters_auto.png 24 24 nonblack"
+  ARGS render crowd --size 0.05 --accel auto --integrator clusters --width 24 --height 24 --spp 1
+       -o ${O}/clusters_auto.png)
 # For an input without a clock, --shutter is the part of the normalized shutter.
 mbrt_cli_test(cli.render_shutter_obj
   OUT "shutter \\[0.25, 0.5\\]"

@@ -69,10 +69,12 @@ bool isShutterPart(const std::vector<float>& v) {
 }
 
 void checkAccelKinds(const RenderArgs& args, IntegratorKind integrator) {
-  // Only fuzzykd has motion clusters: refused before the scene is loaded.
+  // Only fuzzykd (its motion clusters) and auto (its objects) group the
+  // primitives: refused before the scene is loaded.
+  const auto groups = [](const std::string& kind) { return kind == "fuzzykd" || kind == "auto"; };
   if (integrator == IntegratorKind::Clusters &&
-      (args.accel.accel != "fuzzykd" || (!args.compare.empty() && args.compare != "fuzzykd")))
-    throw UsageError("--integrator clusters needs --accel fuzzykd (the motion clusters of its decomposition)");
+      (!groups(args.accel.accel) || (!args.compare.empty() && !groups(args.compare))))
+    throw UsageError("--integrator clusters needs --accel fuzzykd (its motion clusters) or auto (its objects)");
   if (!args.compare.empty()) {
     const auto kind = parseAccelKind(args.compare);
     const auto kinds = availableAccelKinds();
