@@ -3,7 +3,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include <bit>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -30,23 +32,33 @@ constexpr float kMaxFloat = std::numeric_limits<float>::max();
 // watertight shear and the segment test's |dir| then never overflow nor
 // underflow, whatever the direction's scale (1e-45 to 3e38). The interval
 // is clamped to finite floats: a hit's t is always finite.
+// 2^k as a double, for |k| < 1023 (every k here is within 2 * 150).
+inline double powerOfTwo(int k) { return std::bit_cast<double>(uint64_t(k + 1023) << 52); }
+
+// x * 2^k rounded once to float, as std::ldexp(x, k): the double product is
+// exact (24 significant bits, |k| <= 300 stays within double's range), so
+// its one rounding to float is ldexp's. No libm call on the per-ray path.
+inline float scaleByPowerOfTwo(float x, int k) { return float(double(x) * powerOfTwo(k)); }
+
+// e with x = f * 2^e, f in [0.5, 1), for finite x != 0 (std::frexp's
+// exponent): read from the double, where float denormals are normal.
+inline int binaryExponent(float x) { return int(std::bit_cast<uint64_t>(double(x)) >> 52 & 0x7FFu) - 1022; }
+
 class ScaledRay {
  public:
   explicit ScaledRay(const Ray& ray) {
     const Vec3f a{std::fabs(ray.dir.x), std::fabs(ray.dir.y), std::fabs(ray.dir.z)};
-    int e = 0;
-    std::frexp(maxComponent(a), &e);  // max = f * 2^e, f in [0.5, 1)
-    exponent_ = 1 - e;
-    const Vec3f dir{std::ldexp(ray.dir.x, exponent_), std::ldexp(ray.dir.y, exponent_),
-                    std::ldexp(ray.dir.z, exponent_)};
-    const float tnear = std::ldexp(ray.tnear, -exponent_);
-    const float tfar = std::ldexp(std::min(ray.tfar, kMaxFloat), -exponent_);
+    exponent_ = 1 - binaryExponent(maxComponent(a));  // max = f * 2^e, f in [0.5, 1)
+    const Vec3f dir{scaleByPowerOfTwo(ray.dir.x, exponent_), scaleByPowerOfTwo(ray.dir.y, exponent_),
+                    scaleByPowerOfTwo(ray.dir.z, exponent_)};
+    const float tnear = scaleByPowerOfTwo(ray.tnear, -exponent_);
+    const float tfar = scaleByPowerOfTwo(std::min(ray.tfar, kMaxFloat), -exponent_);
     empty_ = !(tnear <= kMaxFloat) || !(tfar >= -kMaxFloat);  // beyond the float range
     query_.setup(ray.org, dir, std::max(tnear, -kMaxFloat), std::min(tfar, kMaxFloat), ray.time, ray.mask);
   }
   bool empty() const { return empty_; }
   detail::RayQuery& query() { return query_; }
-  void unscale(Hit& hit) const { hit.t = std::ldexp(hit.t, exponent_); }
+  void unscale(Hit& hit) const { hit.t = scaleByPowerOfTwo(hit.t, exponent_); }
 
  private:
   detail::RayQuery query_;
