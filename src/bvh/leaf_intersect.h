@@ -8,6 +8,10 @@
 // per-reference path. (STBVH §4: leaves are tested at the ray's time.)
 #pragma once
 
+#include <algorithm>
+#include <vector>
+
+#include "geometry/triangle_block.h"
 #include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
@@ -42,31 +46,108 @@ struct VerticesAt {
   [[gnu::always_inline]] Vec3f operator[](uint32_t i) const { return v1 ? lerp((*v0)[i], (*v1)[i], f) : (*v0)[i]; }
 };
 
-// The run's triangles or segments, without filter: calls onHit(hit) for
-// each candidate hit; stops when onHit returns true.
+// One triangle's candidate hit, as intersectPrimitive finds it.
 template <class OnHit>
-inline bool testRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
-                    OnHit&& onHit) {
-  const VerticesAt at(g, ray.time);
-  if (g.type() == GeometryType::Triangles) {
-    const std::span<const Triangle> tris = g.triangles();
-    for (uint32_t i = begin; i < end; ++i) {
-      const Triangle& tri = tris[prims[i].primID];
-      const Vec3f v0 = at[tri.v0], v1 = at[tri.v1], v2 = at[tri.v2];
+inline bool testOneTriangle(PrimRef ref, Vec3f v0, Vec3f v1, Vec3f v2, RayQuery& ray, OnHit&& onHit) {
+  TriangleHit th;
+  if (!intersectTriangle(ray, v0, v1, v2, th)) return false;
+  Hit h;
+  h.t = th.t;
+  h.u = th.u;
+  h.v = th.v;
+  h.Ng = cross(v1 - v0, v2 - v0);
+  h.geomID = ref.geomID;
+  h.primID = ref.primID;
+  h.instID = kInvalidId;
+  return onHit(h);
+}
+
+// Where a run's triangle vertices come from: through the triangle's
+// indices, interpolated at the ray's time (every kind) ...
+struct IndexedTriangles {
+  std::span<const Triangle> tris;
+  const VerticesAt& at;
+  [[gnu::always_inline]] void operator()(uint32_t primID, Vec3f& v0, Vec3f& v1, Vec3f& v2) const {
+    const Triangle& tri = tris[primID];
+    v0 = at[tri.v0];
+    v1 = at[tri.v1];
+    v2 = at[tri.v2];
+  }
+};
+// ... or three consecutive vertices per primitive at a fixed time
+// (FixedTimeTriangles, `frozen`).
+struct StoredTriangles {
+  const Vec3f* v;
+  [[gnu::always_inline]] void operator()(uint32_t primID, Vec3f& v0, Vec3f& v1, Vec3f& v2) const {
+    const Vec3f* p = v + 3 * size_t(primID);
+    v0 = p[0];
+    v1 = p[1];
+    v2 = p[2];
+  }
+};
+
+// Triangles per leaf block: the test runs on a pack of this width.
+inline constexpr int kLeafBlock = packWidth<4>();
+
+// The run's triangles: whole blocks of kLeafBlock (triangle_block.h), the
+// rest one by one (a part-filled block costs more than it saves: gathering
+// the lanes and taking the hits back out are per lane). Calls onHit(hit) for
+// each candidate hit in the order of the references, as testing them one by
+// one would; stops when onHit returns true.
+template <class Vertices, class OnHit>
+inline bool testTriangles(const Vertices& vertices, const PrimRef* prims, uint32_t begin, uint32_t end,
+                          RayQuery& ray, OnHit&& onHit) {
+  constexpr int W = kLeafBlock;
+  Vec3f v0, v1, v2;
+  const uint32_t blocksEnd = W > 1 ? begin + (end - begin) / W * W : begin;
+  TriangleBlock<W> block;
+  TriangleBlockResult<W> res;
+  for (uint32_t first = begin; first < blocksEnd; first += W) {
+    for (int lane = 0; lane < W; ++lane) {
+      vertices(prims[first + uint32_t(lane)].primID, v0, v1, v2);
+      block.set(lane, ray, v0, v1, v2);
+    }
+    intersectTriangleBlock(ray, block, (1u << W) - 1u, res);
+    for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
+      const int lane = __builtin_ctz(todo);
+      const PrimRef ref = prims[first + uint32_t(lane)];
+      v0 = block.vertex(0, lane, ray);
+      v1 = block.vertex(1, lane, ray);
+      v2 = block.vertex(2, lane, ray);
+      if (res.scalar >> lane & 1u) {
+        if (testOneTriangle(ref, v0, v1, v2, ray, onHit)) return true;
+        continue;
+      }
       TriangleHit th;
-      if (!intersectTriangle(ray, v0, v1, v2, th)) continue;
+      if (!res.accept(lane, ray, th)) continue;
       Hit h;
       h.t = th.t;
       h.u = th.u;
       h.v = th.v;
       h.Ng = cross(v1 - v0, v2 - v0);
-      h.geomID = prims[i].geomID;
-      h.primID = prims[i].primID;
+      h.geomID = ref.geomID;
+      h.primID = ref.primID;
       h.instID = kInvalidId;
       if (onHit(h)) return true;
     }
-    return false;
   }
+  for (uint32_t i = blocksEnd; i < end; ++i) {  // the rest, in order after the blocks
+    vertices(prims[i].primID, v0, v1, v2);
+    if (testOneTriangle(prims[i], v0, v1, v2, ray, onHit)) return true;
+  }
+  return false;
+}
+
+// The run's triangles or segments, without filter: calls onHit(hit) for
+// each candidate hit; stops when onHit returns true. `stored`: the
+// geometry's triangles at the ray's time (FixedTimeTriangles), or null.
+template <class OnHit>
+inline bool testRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
+                    OnHit&& onHit, const Vec3f* stored) {
+  if (stored) return testTriangles(StoredTriangles{stored}, prims, begin, end, ray, onHit);
+  const VerticesAt at(g, ray.time);
+  if (g.type() == GeometryType::Triangles)
+    return testTriangles(IndexedTriangles{g.triangles(), at}, prims, begin, end, ray, onHit);
   const std::span<const Segment> segs = g.segments();
   const std::span<const float> radii = g.radii();
   for (uint32_t i = begin; i < end; ++i) {
@@ -90,9 +171,51 @@ inline bool plainRun(const Geometry& g) { return g.type() != GeometryType::Insta
 
 }  // namespace leaf_run
 
+// The triangles of a scene at one time, three vertices each, in primitive
+// order per geometry: `frozen`'s leaves read a triangle in one place
+// instead of through its indices and the vertex buffers (as Embree's
+// static leaves keep their vertices). The values are those VerticesAt
+// computes at that time, so hits are unchanged. Geometries with a filter,
+// segments and instances are not stored (their runs take the other paths).
+struct FixedTimeTriangles {
+  static constexpr uint32_t kNotStored = 0xFFFFFFFFu;
+  std::vector<uint32_t> first;  // per geometry: the index in `vertices` of its triangle 0's v0, or kNotStored
+  std::vector<Vec3f> vertices;
+
+  FixedTimeTriangles() = default;
+  FixedTimeTriangles(const SceneContext& ctx, float time) {
+    const uint32_t count = ctx.scene().numGeometries();
+    first.assign(count, kNotStored);
+    size_t total = 0;
+    for (uint32_t id = 0; id < count; ++id)
+      if (stores(ctx.geometry(id), time)) total += 3 * ctx.geometry(id).triangles().size();
+    ctx.budget().charge(total * sizeof(Vec3f), "the frozen tree's stored triangles");
+    vertices.reserve(total);
+    for (uint32_t id = 0; id < count; ++id) {
+      const Geometry& g = ctx.geometry(id);
+      if (!stores(g, time)) continue;
+      first[id] = uint32_t(vertices.size());
+      const leaf_run::VerticesAt at(g, time);
+      for (const Triangle& tri : g.triangles())
+        for (uint32_t v : {tri.v0, tri.v1, tri.v2}) vertices.push_back(at[v]);
+    }
+  }
+  // The stored triangles of geometry geomID, or null.
+  const Vec3f* of(uint32_t geomID) const {
+    return first.empty() || first[geomID] == kNotStored ? nullptr : vertices.data() + first[geomID];
+  }
+  size_t bytes() const { return first.size() * sizeof(uint32_t) + vertices.size() * sizeof(Vec3f); }
+
+ private:
+  static bool stores(const Geometry& g, float time) {
+    return g.type() == GeometryType::Triangles && !g.hasFilter() && g.timeRange().contains(time) &&
+           3 * g.triangles().size() < kNotStored;
+  }
+};
+
 // Closest hit among a leaf's references (as intersectPrimitive on each).
 inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray, Hit& hit,
-                          TraversalCounters* counters) {
+                          TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr) {
   bool found = false;
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
@@ -104,7 +227,7 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
           ray.tfar = h.t;
           found = true;
           return false;
-        });
+        }, stored ? stored->of(prims[begin].geomID) : nullptr);
       } else {
         for (uint32_t i = begin; i < end; ++i) found |= intersectPrimitive(ctx, prims[i], ray, hit, counters);
       }
@@ -115,13 +238,15 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
 }
 
 // Any hit among a leaf's references (as occludedPrimitive on each).
-inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray) {
+inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray,
+                         const FixedTimeTriangles* stored = nullptr) {
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
     const Geometry& g = ctx.geometry(prims[begin].geomID);
     if ((g.mask() & ray.mask) != 0 && g.timeRange().contains(ray.time)) {
       if (leaf_run::plainRun(g)) {
-        if (leaf_run::testRun(g, prims, begin, end, ray, [](const Hit&) { return true; })) return true;
+        const Vec3f* v = stored ? stored->of(prims[begin].geomID) : nullptr;
+        if (leaf_run::testRun(g, prims, begin, end, ray, [](const Hit&) { return true; }, v)) return true;
       } else {
         for (uint32_t i = begin; i < end; ++i)
           if (occludedPrimitive(ctx, prims[i], ray)) return true;
