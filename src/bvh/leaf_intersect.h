@@ -6,12 +6,13 @@
 // (primitive_intersect.h), so hits are bit-identical to testing the
 // references one by one. Instances and geometries with a filter take the
 // per-reference path. (STBVH §4: leaves are tested at the ray's time.)
+// A static tree (`frozen`) reads its triangles from FixedTimeTriangles,
+// the vertices at its one time laid out per primitive, instead of
+// interpolating them through the indices (docs/performance.md).
 #pragma once
 
-#include <algorithm>
 #include <vector>
 
-#include "geometry/triangle_block.h"
 #include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
@@ -86,52 +87,13 @@ struct StoredTriangles {
   }
 };
 
-// Triangles per leaf block: the test runs on a pack of this width.
-inline constexpr int kLeafBlock = packWidth<4>();
-
-// The run's triangles: whole blocks of kLeafBlock (triangle_block.h), the
-// rest one by one (a part-filled block costs more than it saves: gathering
-// the lanes and taking the hits back out are per lane). Calls onHit(hit) for
-// each candidate hit in the order of the references, as testing them one by
-// one would; stops when onHit returns true.
+// The run's triangles one by one, in the order of the references: calls
+// onHit(hit) for each candidate hit; stops when onHit returns true.
 template <class Vertices, class OnHit>
 inline bool testTriangles(const Vertices& vertices, const PrimRef* prims, uint32_t begin, uint32_t end,
                           RayQuery& ray, OnHit&& onHit) {
-  constexpr int W = kLeafBlock;
-  Vec3f v0, v1, v2;
-  const uint32_t blocksEnd = W > 1 ? begin + (end - begin) / W * W : begin;
-  TriangleBlock<W> block;
-  TriangleBlockResult<W> res;
-  for (uint32_t first = begin; first < blocksEnd; first += W) {
-    for (int lane = 0; lane < W; ++lane) {
-      vertices(prims[first + uint32_t(lane)].primID, v0, v1, v2);
-      block.set(lane, ray, v0, v1, v2);
-    }
-    intersectTriangleBlock(ray, block, (1u << W) - 1u, res);
-    for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
-      const int lane = __builtin_ctz(todo);
-      const PrimRef ref = prims[first + uint32_t(lane)];
-      v0 = block.vertex(0, lane, ray);
-      v1 = block.vertex(1, lane, ray);
-      v2 = block.vertex(2, lane, ray);
-      if (res.scalar >> lane & 1u) {
-        if (testOneTriangle(ref, v0, v1, v2, ray, onHit)) return true;
-        continue;
-      }
-      TriangleHit th;
-      if (!res.accept(lane, ray, th)) continue;
-      Hit h;
-      h.t = th.t;
-      h.u = th.u;
-      h.v = th.v;
-      h.Ng = cross(v1 - v0, v2 - v0);
-      h.geomID = ref.geomID;
-      h.primID = ref.primID;
-      h.instID = kInvalidId;
-      if (onHit(h)) return true;
-    }
-  }
-  for (uint32_t i = blocksEnd; i < end; ++i) {  // the rest, in order after the blocks
+  for (uint32_t i = begin; i < end; ++i) {
+    Vec3f v0, v1, v2;
     vertices(prims[i].primID, v0, v1, v2);
     if (testOneTriangle(prims[i], v0, v1, v2, ray, onHit)) return true;
   }
@@ -214,6 +176,8 @@ struct FixedTimeTriangles {
 };
 
 // Closest hit among a leaf's references (as intersectPrimitive on each).
+// Stored: the leaf may read triangles from `stored` (static trees only).
+template <bool Stored = false>
 inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray, Hit& hit,
                           TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr) {
   bool found = false;
@@ -227,7 +191,7 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
           ray.tfar = h.t;
           found = true;
           return false;
-        }, stored ? stored->of(prims[begin].geomID) : nullptr);
+        }, Stored && stored ? stored->of(prims[begin].geomID) : nullptr);
       } else {
         for (uint32_t i = begin; i < end; ++i) found |= intersectPrimitive(ctx, prims[i], ray, hit, counters);
       }
@@ -238,6 +202,7 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
 }
 
 // Any hit among a leaf's references (as occludedPrimitive on each).
+template <bool Stored = false>
 inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray,
                          const FixedTimeTriangles* stored = nullptr) {
   for (uint32_t begin = 0; begin < count;) {
@@ -245,7 +210,7 @@ inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t
     const Geometry& g = ctx.geometry(prims[begin].geomID);
     if ((g.mask() & ray.mask) != 0 && g.timeRange().contains(ray.time)) {
       if (leaf_run::plainRun(g)) {
-        const Vec3f* v = stored ? stored->of(prims[begin].geomID) : nullptr;
+        const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
         if (leaf_run::testRun(g, prims, begin, end, ray, [](const Hit&) { return true; }, v)) return true;
       } else {
         for (uint32_t i = begin; i < end; ++i)

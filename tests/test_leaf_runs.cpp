@@ -1,8 +1,8 @@
-// The SIMD leaf blocks (geometry/triangle_block.h, bvh/leaf_intersect.h)
-// against the oracle's one-by-one test: a leaf of n references must give
+// The leaf test of the BVH kinds (bvh/leaf_intersect.h: runs of one
+// geometry) against the oracle's one-by-one test: a leaf of n references must give
 // exactly the hit (bits of t, u, v, Ng, ids) and the final tfar that
 // intersectPrimitive on each reference in order gives, for leaves of every
-// size around the block width, with ties (duplicate triangles), rays
+// size from 1 to 13, with ties (duplicate triangles), rays
 // through shared edges and vertices (zero edge functions), coordinates
 // beyond float's edge-function range, and through the stored triangles of
 // `frozen` (FixedTimeTriangles) as through the vertex buffers.
@@ -12,7 +12,6 @@
 #include <random>
 
 #include "bvh/leaf_intersect.h"
-#include "geometry/triangle_block.h"
 #include "scene/scene_context.h"
 #include "test_util.h"
 
@@ -91,57 +90,16 @@ void checkLeaves(const Scene& scene, float scale, bool stored) {
     }
     const detail::FixedTimeTriangles* source = stored ? &fixed : nullptr;
     const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(count) + " references";
-    ASSERT_EQ(detail::intersectLeaf(ctx, prims, count, leaf, got, nullptr, source), found) << what;
+    ASSERT_EQ(detail::intersectLeaf<true>(ctx, prims, count, leaf, got, nullptr, source), found) << what;
     EXPECT_TRUE(sameBits(leaf.tfar, one.tfar)) << what;
     if (found) expectSameHit(got, expected, what);
-    EXPECT_EQ(detail::occludedLeaf(ctx, prims, count, anyRay, source), occluded) << what;
+    EXPECT_EQ(detail::occludedLeaf<true>(ctx, prims, count, anyRay, source), occluded) << what;
     hits += found;
   }
   EXPECT_GT(hits, 2000);  // the rays aim at the leaf's triangles: most of them hit
 }
 
-// intersectTriangleBlock<4> lane by lane against intersectTriangle, in
-// every build (the portable Pack<4> where the leaves take width 1).
-TEST(LeafBlocks, BlockLanesAgreeWithTheScalarTest) {
-  Scene scene;
-  addGrid(scene, 6, 1.0f, 0.0f, 1);
-  addGrid(scene, 3, 1e13f, 0.5f, 1);
-  std::mt19937 rng(3);
-  int candidates = 0;
-  for (int trial = 0; trial < 4000; ++trial) {
-    const Geometry& g = scene.geometry(trial % 2);
-    const uint32_t numTris = uint32_t(g.triangles().size());
-    uint32_t prim[4];
-    for (uint32_t& p : prim) p = rng() % numTris;
-    detail::RayQuery ray = rayTowards(rng, g, prim[rng() % 4], trial % 2 ? 1e13f : 1.0f, 0.0f);
-    if (trial % 3 == 0) ray.tfar = std::uniform_real_distribution<float>(0.5f, 1.0f)(rng);
-    detail::TriangleBlock<4> block;
-    Vec3f v[4][3];
-    for (int lane = 0; lane < 4; ++lane) {
-      const Triangle& tri = g.triangles()[prim[lane]];
-      v[lane][0] = g.vertexAt(0.0f, tri.v0);
-      v[lane][1] = g.vertexAt(0.0f, tri.v1);
-      v[lane][2] = g.vertexAt(0.0f, tri.v2);
-      block.set(lane, ray, v[lane][0], v[lane][1], v[lane][2]);
-    }
-    const uint32_t valid = 1u + rng() % 15u;
-    detail::TriangleBlockResult<4> res;
-    detail::intersectTriangleBlock(ray, block, valid, res);
-    EXPECT_EQ((res.candidates | res.scalar) & ~valid, 0u);
-    for (int lane = 0; lane < 4; ++lane) {
-      if (!(valid >> lane & 1u) || res.scalar >> lane & 1u) continue;
-      detail::TriangleHit expected, got;
-      const bool hit = detail::intersectTriangle(ray, v[lane][0], v[lane][1], v[lane][2], expected);
-      const std::string what = "trial " + std::to_string(trial) + " lane " + std::to_string(lane);
-      ASSERT_EQ(res.candidates >> lane & 1u ? res.accept(lane, ray, got) : false, hit) << what;
-      if (hit) EXPECT_TRUE(sameBits(got.t, expected.t) && sameBits(got.u, expected.u) && sameBits(got.v, expected.v));
-      candidates += hit;
-    }
-  }
-  EXPECT_GT(candidates, 500);
-}
-
-TEST(LeafBlocks, AgreeWithTheOneByOneTest) {
+TEST(LeafRuns, AgreeWithTheOneByOneTest) {
   for (uint32_t steps : {1u, 3u}) {
     Scene scene;
     addGrid(scene, 6, 1.0f, 0.0f, steps);
@@ -149,13 +107,13 @@ TEST(LeafBlocks, AgreeWithTheOneByOneTest) {
   }
 }
 
-TEST(LeafBlocks, AgreeBeyondFloatEdgeFunctions) {
+TEST(LeafRuns, AgreeBeyondFloatEdgeFunctions) {
   Scene scene;
   addGrid(scene, 4, 1e13f, 0.5f, 2);  // edge functions and T overflow float: the double path
   checkLeaves(scene, 1e13f, false);
 }
 
-TEST(LeafBlocks, StoredTrianglesAgreeWithTheVertexBuffers) {
+TEST(LeafRuns, StoredTrianglesAgreeWithTheVertexBuffers) {
   for (uint32_t steps : {1u, 4u}) {
     Scene scene;
     addGrid(scene, 6, 1.0f, 0.0f, steps);
