@@ -24,6 +24,18 @@ namespace {
 
 constexpr float kMaxFloat = std::numeric_limits<float>::max();
 
+// 2^k as a double, for |k| < 1023 (here |k| <= 149).
+inline double powerOfTwo(int k) { return std::bit_cast<double>(uint64_t(k + 1023) << 52); }
+
+// x * 2^k rounded once to float, as std::ldexp(x, k): the double product is
+// exact (24 significant bits times 2^k stays within double's range), so
+// its one rounding to float is ldexp's. No libm call on the per-ray path.
+inline float scaleByPowerOfTwo(float x, int k) { return float(double(x) * powerOfTwo(k)); }
+
+// e with x = f * 2^e, f in [0.5, 1), for finite x != 0 (std::frexp's
+// exponent): read from the double, where float denormals are normal.
+inline int binaryExponent(float x) { return int(std::bit_cast<uint64_t>(double(x)) >> 52 & 0x7FFu) - 1022; }
+
 // Structures trace every ray with its direction scaled by a power of two,
 // 2^k, so that its largest component lies in [1, 2); tnear and tfar are
 // scaled by 2^-k and hit distances back by 2^k. Powers of two keep this
@@ -32,18 +44,6 @@ constexpr float kMaxFloat = std::numeric_limits<float>::max();
 // watertight shear and the segment test's |dir| then never overflow nor
 // underflow, whatever the direction's scale (1e-45 to 3e38). The interval
 // is clamped to finite floats: a hit's t is always finite.
-// 2^k as a double, for |k| < 1023 (every k here is within 2 * 150).
-inline double powerOfTwo(int k) { return std::bit_cast<double>(uint64_t(k + 1023) << 52); }
-
-// x * 2^k rounded once to float, as std::ldexp(x, k): the double product is
-// exact (24 significant bits, |k| <= 300 stays within double's range), so
-// its one rounding to float is ldexp's. No libm call on the per-ray path.
-inline float scaleByPowerOfTwo(float x, int k) { return float(double(x) * powerOfTwo(k)); }
-
-// e with x = f * 2^e, f in [0.5, 1), for finite x != 0 (std::frexp's
-// exponent): read from the double, where float denormals are normal.
-inline int binaryExponent(float x) { return int(std::bit_cast<uint64_t>(double(x)) >> 52 & 0x7FFu) - 1022; }
-
 class ScaledRay {
  public:
   explicit ScaledRay(const Ray& ray) {

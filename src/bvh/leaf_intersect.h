@@ -151,6 +151,10 @@ struct FixedTimeTriangles {
     size_t total = 0;
     for (uint32_t id = 0; id < count; ++id)
       if (stores(ctx.geometry(id), time)) total += 3 * ctx.geometry(id).triangles().size();
+    if (total >= kNotStored) {  // beyond 32-bit offsets: nothing stored, the leaves interpolate
+      first.clear();
+      return;
+    }
     ctx.budget().charge(total * sizeof(Vec3f), "the frozen tree's stored triangles");
     vertices.reserve(total);
     for (uint32_t id = 0; id < count; ++id) {
