@@ -26,7 +26,8 @@ struct NodeRay {
   bool tame;
   int nearPlane[3];        // 0: lower plane is the entry plane; 1: upper
 
-  NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
+  // Inlined: each tree type reads only its members, the others are dropped.
+  [[gnu::always_inline]] NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
     orgs[3] = rdirs[3] = 0.0f;
     tame = true;
     for (int a = 0; a < 3; ++a) {
