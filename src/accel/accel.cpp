@@ -3,7 +3,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include <bit>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -22,6 +24,18 @@ namespace {
 
 constexpr float kMaxFloat = std::numeric_limits<float>::max();
 
+// 2^k as a double, for |k| < 1023 (here |k| <= 149).
+inline double powerOfTwo(int k) { return std::bit_cast<double>(uint64_t(k + 1023) << 52); }
+
+// x * 2^k rounded once to float, as std::ldexp(x, k): the double product is
+// exact (24 significant bits times 2^k stays within double's range), so
+// its one rounding to float is ldexp's. No libm call on the per-ray path.
+inline float scaleByPowerOfTwo(float x, int k) { return float(double(x) * powerOfTwo(k)); }
+
+// e with x = f * 2^e, f in [0.5, 1), for finite x != 0 (std::frexp's
+// exponent): read from the double, where float denormals are normal.
+inline int binaryExponent(float x) { return int(std::bit_cast<uint64_t>(double(x)) >> 52 & 0x7FFu) - 1022; }
+
 // Structures trace every ray with its direction scaled by a power of two,
 // 2^k, so that its largest component lies in [1, 2); tnear and tfar are
 // scaled by 2^-k and hit distances back by 2^k. Powers of two keep this
@@ -34,19 +48,17 @@ class ScaledRay {
  public:
   explicit ScaledRay(const Ray& ray) {
     const Vec3f a{std::fabs(ray.dir.x), std::fabs(ray.dir.y), std::fabs(ray.dir.z)};
-    int e = 0;
-    std::frexp(maxComponent(a), &e);  // max = f * 2^e, f in [0.5, 1)
-    exponent_ = 1 - e;
-    const Vec3f dir{std::ldexp(ray.dir.x, exponent_), std::ldexp(ray.dir.y, exponent_),
-                    std::ldexp(ray.dir.z, exponent_)};
-    const float tnear = std::ldexp(ray.tnear, -exponent_);
-    const float tfar = std::ldexp(std::min(ray.tfar, kMaxFloat), -exponent_);
+    exponent_ = 1 - binaryExponent(maxComponent(a));  // max = f * 2^e, f in [0.5, 1)
+    const Vec3f dir{scaleByPowerOfTwo(ray.dir.x, exponent_), scaleByPowerOfTwo(ray.dir.y, exponent_),
+                    scaleByPowerOfTwo(ray.dir.z, exponent_)};
+    const float tnear = scaleByPowerOfTwo(ray.tnear, -exponent_);
+    const float tfar = scaleByPowerOfTwo(std::min(ray.tfar, kMaxFloat), -exponent_);
     empty_ = !(tnear <= kMaxFloat) || !(tfar >= -kMaxFloat);  // beyond the float range
     query_.setup(ray.org, dir, std::max(tnear, -kMaxFloat), std::min(tfar, kMaxFloat), ray.time, ray.mask);
   }
   bool empty() const { return empty_; }
   detail::RayQuery& query() { return query_; }
-  void unscale(Hit& hit) const { hit.t = std::ldexp(hit.t, exponent_); }
+  void unscale(Hit& hit) const { hit.t = scaleByPowerOfTwo(hit.t, exponent_); }
 
  private:
   detail::RayQuery query_;

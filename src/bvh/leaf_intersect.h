@@ -6,7 +6,12 @@
 // (primitive_intersect.h), so hits are bit-identical to testing the
 // references one by one. Instances and geometries with a filter take the
 // per-reference path. (STBVH §4: leaves are tested at the ray's time.)
+// A static tree (`frozen`) reads its triangles from FixedTimeTriangles,
+// the vertices at its one time laid out per primitive, instead of
+// interpolating them through the indices (docs/performance.md).
 #pragma once
+
+#include <vector>
 
 #include "scene/primitive_intersect.h"
 
@@ -42,31 +47,69 @@ struct VerticesAt {
   [[gnu::always_inline]] Vec3f operator[](uint32_t i) const { return v1 ? lerp((*v0)[i], (*v1)[i], f) : (*v0)[i]; }
 };
 
+// One triangle's candidate hit, as intersectPrimitive finds it.
+template <class OnHit>
+inline bool testOneTriangle(PrimRef ref, Vec3f v0, Vec3f v1, Vec3f v2, RayQuery& ray, OnHit&& onHit) {
+  TriangleHit th;
+  if (!intersectTriangle(ray, v0, v1, v2, th)) return false;
+  Hit h;
+  h.t = th.t;
+  h.u = th.u;
+  h.v = th.v;
+  h.Ng = cross(v1 - v0, v2 - v0);
+  h.geomID = ref.geomID;
+  h.primID = ref.primID;
+  h.instID = kInvalidId;
+  return onHit(h);
+}
+
+// Where a run's triangle vertices come from: through the triangle's
+// indices, interpolated at the ray's time (every kind) ...
+struct IndexedTriangles {
+  std::span<const Triangle> tris;
+  const VerticesAt& at;
+  [[gnu::always_inline]] void operator()(uint32_t primID, Vec3f& v0, Vec3f& v1, Vec3f& v2) const {
+    const Triangle& tri = tris[primID];
+    v0 = at[tri.v0];
+    v1 = at[tri.v1];
+    v2 = at[tri.v2];
+  }
+};
+// ... or three consecutive vertices per primitive at a fixed time
+// (FixedTimeTriangles, `frozen`).
+struct StoredTriangles {
+  const Vec3f* v;
+  [[gnu::always_inline]] void operator()(uint32_t primID, Vec3f& v0, Vec3f& v1, Vec3f& v2) const {
+    const Vec3f* p = v + 3 * size_t(primID);
+    v0 = p[0];
+    v1 = p[1];
+    v2 = p[2];
+  }
+};
+
+// The run's triangles one by one, in the order of the references: calls
+// onHit(hit) for each candidate hit; stops when onHit returns true.
+template <class Vertices, class OnHit>
+inline bool testTriangles(const Vertices& vertices, const PrimRef* prims, uint32_t begin, uint32_t end,
+                          RayQuery& ray, OnHit&& onHit) {
+  for (uint32_t i = begin; i < end; ++i) {
+    Vec3f v0, v1, v2;
+    vertices(prims[i].primID, v0, v1, v2);
+    if (testOneTriangle(prims[i], v0, v1, v2, ray, onHit)) return true;
+  }
+  return false;
+}
+
 // The run's triangles or segments, without filter: calls onHit(hit) for
-// each candidate hit; stops when onHit returns true.
+// each candidate hit; stops when onHit returns true. `stored`: the
+// geometry's triangles at the ray's time (FixedTimeTriangles), or null.
 template <class OnHit>
 inline bool testRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
-                    OnHit&& onHit) {
+                    OnHit&& onHit, const Vec3f* stored) {
+  if (stored) return testTriangles(StoredTriangles{stored}, prims, begin, end, ray, onHit);
   const VerticesAt at(g, ray.time);
-  if (g.type() == GeometryType::Triangles) {
-    const std::span<const Triangle> tris = g.triangles();
-    for (uint32_t i = begin; i < end; ++i) {
-      const Triangle& tri = tris[prims[i].primID];
-      const Vec3f v0 = at[tri.v0], v1 = at[tri.v1], v2 = at[tri.v2];
-      TriangleHit th;
-      if (!intersectTriangle(ray, v0, v1, v2, th)) continue;
-      Hit h;
-      h.t = th.t;
-      h.u = th.u;
-      h.v = th.v;
-      h.Ng = cross(v1 - v0, v2 - v0);
-      h.geomID = prims[i].geomID;
-      h.primID = prims[i].primID;
-      h.instID = kInvalidId;
-      if (onHit(h)) return true;
-    }
-    return false;
-  }
+  if (g.type() == GeometryType::Triangles)
+    return testTriangles(IndexedTriangles{g.triangles(), at}, prims, begin, end, ray, onHit);
   const std::span<const Segment> segs = g.segments();
   const std::span<const float> radii = g.radii();
   for (uint32_t i = begin; i < end; ++i) {
@@ -90,9 +133,57 @@ inline bool plainRun(const Geometry& g) { return g.type() != GeometryType::Insta
 
 }  // namespace leaf_run
 
+// The triangles of a scene at one time, three vertices each, in primitive
+// order per geometry: `frozen`'s leaves read a triangle in one place
+// instead of through its indices and the vertex buffers (as Embree's
+// static leaves keep their vertices). The values are those VerticesAt
+// computes at that time, so hits are unchanged. Geometries with a filter,
+// segments and instances are not stored (their runs take the other paths).
+struct FixedTimeTriangles {
+  static constexpr uint32_t kNotStored = 0xFFFFFFFFu;
+  std::vector<uint32_t> first;  // per geometry: the index in `vertices` of its triangle 0's v0, or kNotStored
+  std::vector<Vec3f> vertices;
+
+  FixedTimeTriangles() = default;
+  FixedTimeTriangles(const SceneContext& ctx, float time) {
+    const uint32_t count = ctx.scene().numGeometries();
+    first.assign(count, kNotStored);
+    size_t total = 0;
+    for (uint32_t id = 0; id < count; ++id)
+      if (stores(ctx.geometry(id), time)) total += 3 * ctx.geometry(id).triangles().size();
+    if (total >= kNotStored) {  // beyond 32-bit offsets: nothing stored, the leaves interpolate
+      first.clear();
+      return;
+    }
+    ctx.budget().charge(total * sizeof(Vec3f), "the frozen tree's stored triangles");
+    vertices.reserve(total);
+    for (uint32_t id = 0; id < count; ++id) {
+      const Geometry& g = ctx.geometry(id);
+      if (!stores(g, time)) continue;
+      first[id] = uint32_t(vertices.size());
+      const leaf_run::VerticesAt at(g, time);
+      for (const Triangle& tri : g.triangles())
+        for (uint32_t v : {tri.v0, tri.v1, tri.v2}) vertices.push_back(at[v]);
+    }
+  }
+  // The stored triangles of geometry geomID, or null.
+  const Vec3f* of(uint32_t geomID) const {
+    return first.empty() || first[geomID] == kNotStored ? nullptr : vertices.data() + first[geomID];
+  }
+  size_t bytes() const { return first.size() * sizeof(uint32_t) + vertices.size() * sizeof(Vec3f); }
+
+ private:
+  static bool stores(const Geometry& g, float time) {
+    return g.type() == GeometryType::Triangles && !g.hasFilter() && g.timeRange().contains(time) &&
+           3 * g.triangles().size() < kNotStored;
+  }
+};
+
 // Closest hit among a leaf's references (as intersectPrimitive on each).
+// Stored: the leaf may read triangles from `stored` (static trees only).
+template <bool Stored = false>
 inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray, Hit& hit,
-                          TraversalCounters* counters) {
+                          TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr) {
   bool found = false;
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
@@ -104,7 +195,7 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
           ray.tfar = h.t;
           found = true;
           return false;
-        });
+        }, Stored && stored ? stored->of(prims[begin].geomID) : nullptr);
       } else {
         for (uint32_t i = begin; i < end; ++i) found |= intersectPrimitive(ctx, prims[i], ray, hit, counters);
       }
@@ -115,13 +206,16 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
 }
 
 // Any hit among a leaf's references (as occludedPrimitive on each).
-inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray) {
+template <bool Stored = false>
+inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray,
+                         const FixedTimeTriangles* stored = nullptr) {
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
     const Geometry& g = ctx.geometry(prims[begin].geomID);
     if ((g.mask() & ray.mask) != 0 && g.timeRange().contains(ray.time)) {
       if (leaf_run::plainRun(g)) {
-        if (leaf_run::testRun(g, prims, begin, end, ray, [](const Hit&) { return true; })) return true;
+        const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
+        if (leaf_run::testRun(g, prims, begin, end, ray, [](const Hit&) { return true; }, v)) return true;
       } else {
         for (uint32_t i = begin; i < end; ++i)
           if (occludedPrimitive(ctx, prims[i], ray)) return true;

@@ -26,7 +26,8 @@ struct NodeRay {
   bool tame;
   int nearPlane[3];        // 0: lower plane is the entry plane; 1: upper
 
-  NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
+  // Inlined: each tree type reads only its members, the others are dropped.
+  [[gnu::always_inline]] NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
     orgs[3] = rdirs[3] = 0.0f;
     tame = true;
     for (int a = 0; a < 3; ++a) {
@@ -193,10 +194,11 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
 // boxTime is the ray's time in the tree's time parameter; the leaf test uses
-// ray.time. Count adds nodes visited, box tests and primitive tests.
+// ray.time, and `stored` triangles when given (valid at ray.time). Count
+// adds nodes visited, box tests and primitive tests.
 template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
-              TraversalCounters* counters) {
+              TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr) {
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(ray, boxTime);
   return wideTraverse<AnyHit, Count, N>(
@@ -209,8 +211,8 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
         PrimRef one;
         const PrimRef* prims = item.references(bvh.prims.data(), one);
         const uint32_t count = item.leafSize();
-        if constexpr (AnyHit) return occludedLeaf(ctx, prims, count, ray);
-        else return intersectLeaf(ctx, prims, count, ray, *hit, Count ? counters : nullptr);
+        if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored);
+        else return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored);
       });
 }
 

@@ -63,7 +63,8 @@ class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, pu
  public:
   template <bool AnyHit, bool Count>
   bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
-    return traverse<AnyHit, Count>(bvh_, ctx_, ray, boxTime(ray), hit, counters);
+    return traverse<AnyHit, Count>(bvh_, ctx_, ray, boxTime(ray), hit, counters,
+                                   stored_.first.empty() ? nullptr : &stored_);
   }
   std::vector<uint8_t> bytes() const override {
     std::vector<uint8_t> out;
@@ -77,6 +78,7 @@ class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, pu
 
   const SceneContext& ctx_;
   WideBvh<N, Motion> bvh_;
+  FixedTimeTriangles stored_;  // static trees: the triangles at the frozen time (leaf_intersect.h)
 
  private:
   float boxTime(RayQuery& ray) const {

@@ -33,11 +33,13 @@ class Frozen final : public WideBvhStructure<N, false> {
   explicit Frozen(const SceneContext& ctx) : Base(ctx, ctx.options().frozenTime), time_(ctx.options().frozenTime) {
     const std::vector<PrimRef> prims = ctx.primitives();
     buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_);
+    Base::stored_ = FixedTimeTriangles(ctx, time_);
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
+    sums.bytes += Base::stored_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
   }
 
