@@ -1,7 +1,9 @@
 // `clusters`: the paper's Fig. 1 — every triangle coloured by the motion
 // cluster (decompose/) whose fuzzy kd-tree holds it, shaded by the facing
 // ratio so the shape stays readable; triangles in fuzzykd's world-space tree
-// (static or small meshes, clusters that fell back) are grey.
+// (static or small meshes, clusters that fell back) are grey. Over `auto`
+// the groups are its objects (extracted instances, the remaining meshes;
+// docs/auto.md), through the same Accel::clusterOf.
 #include <cmath>
 
 #include "render/integrator.h"

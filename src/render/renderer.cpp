@@ -103,8 +103,9 @@ RenderResult render(const SceneDescription& scene, const Accel& accel, const Ren
     case IntegratorKind::HeatIsects: trace = renderer::traceHeat; break;
     case IntegratorKind::Clusters: trace = renderer::traceClusters; break;
   }
-  if (o.integrator == IntegratorKind::Clusters && accel.options().kind != AccelKind::FuzzyKd)
-    throw Error("render: the clusters integrator needs the fuzzykd structure, not " +
+  if (o.integrator == IntegratorKind::Clusters && accel.options().kind != AccelKind::FuzzyKd &&
+      accel.options().kind != AccelKind::Auto)
+    throw Error("render: the clusters integrator needs the fuzzykd or auto structure, not " +
                 std::string(toString(accel.options().kind)));
   const bool heat = isHeatMap(o.integrator);
 
