@@ -55,7 +55,8 @@ TEST(AutoExtraction, RigidMeshIsFoundRigidDeformingIsNotMixedMeshSplits) {
 TEST(AutoExtraction, ToleranceDecidesNearlyRigidMeshes) {
   const ProceduralScene noisy = test::autoTestScene(1e-4f);
   EXPECT_EQ(rigidPartOf(detail::planDecomposition(*noisy.scene, 1e-5), 4), nullptr);
-  const detail::RigidPart* coarse = rigidPartOf(detail::planDecomposition(*noisy.scene, 1e-3), 4);
+  const detail::AutoPlan coarsePlan = detail::planDecomposition(*noisy.scene, 1e-3);  // outlives `coarse`
+  const detail::RigidPart* coarse = rigidPartOf(coarsePlan, 4);
   ASSERT_NE(coarse, nullptr);
   EXPECT_GT(coarse->fit.maxResidual, 1e-5);
   EXPECT_LE(coarse->fit.maxResidual, 1e-3);
