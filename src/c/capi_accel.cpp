@@ -5,6 +5,23 @@
 
 #include "c/handles.h"
 
+namespace {
+
+// The build options the C struct mirrors (the fields share their names), in
+// one list for both directions.
+template <class From, class To>
+void copyBuildOptions(const From& from, To& to) {
+  to.branching = from.branching;
+  to.maxLeafSize = from.maxLeafSize;
+  to.sahBins = from.sahBins;
+  to.traversalCost = from.traversalCost;
+  to.frozenTime = from.frozenTime;
+  to.memoryBudget = from.memoryBudget;
+  to.maxInstanceDepth = from.maxInstanceDepth;
+}
+
+}  // namespace
+
 using namespace mbrt::capi;
 
 extern "C" {
@@ -26,14 +43,7 @@ const char* mbrtGetKindName(uint32_t index) {
 void mbrtDefaultBuildOptions(MBRTBuildOptions* options) {
   guarded(nullptr, 0, "mbrtDefaultBuildOptions", [&] {
     require(options != nullptr, "options is NULL");
-    mbrt::BuildOptions d;
-    options->branching = d.branching;
-    options->maxLeafSize = d.maxLeafSize;
-    options->sahBins = d.sahBins;
-    options->traversalCost = d.traversalCost;
-    options->frozenTime = d.frozenTime;
-    options->memoryBudget = d.memoryBudget;
-    options->maxInstanceDepth = d.maxInstanceDepth;
+    copyBuildOptions(mbrt::BuildOptions{}, *options);
     return 0;
   });
 }
@@ -50,15 +60,7 @@ MBRTAccel mbrtNewAccel(MBRTScene scene, const char* kind, const MBRTBuildOptions
     }
     mbrt::BuildOptions o;
     o.kind = *parsed;
-    if (options) {
-      o.branching = options->branching;
-      o.maxLeafSize = options->maxLeafSize;
-      o.sahBins = options->sahBins;
-      o.traversalCost = options->traversalCost;
-      o.frozenTime = options->frozenTime;
-      o.memoryBudget = options->memoryBudget;
-      o.maxInstanceDepth = options->maxInstanceDepth;
-    }
+    if (options) copyBuildOptions(*options, o);
     auto a = std::make_unique<MBRTAccelT>();
     a->scene = scene;
     a->accel = mbrt::Accel::build(scene->data->scene, o);
