@@ -13,6 +13,22 @@
 #include "io/gltf_internal.h"
 
 namespace mbrt::gltf {
+
+// A buffer view's bytes, checked: the view and its buffer exist and the view
+// fits the buffer. `what` names it in errors.
+std::span<const uint8_t> bufferViewBytes(const Document& doc, int viewIndex, const std::string& what) {
+  const tinygltf::Model& m = *doc.model;
+  if (viewIndex < 0 || size_t(viewIndex) >= m.bufferViews.size())
+    doc.fail(what + ": buffer view " + std::to_string(viewIndex) + " does not exist");
+  const tinygltf::BufferView& view = m.bufferViews[size_t(viewIndex)];
+  if (view.buffer < 0 || size_t(view.buffer) >= m.buffers.size())
+    doc.fail(what + ": buffer " + std::to_string(view.buffer) + " does not exist");
+  const std::vector<unsigned char>& data = m.buffers[size_t(view.buffer)].data;
+  if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+    doc.fail(what + ": buffer view " + std::to_string(viewIndex) + " does not fit its buffer: truncated or corrupt file");
+  return {data.data() + view.byteOffset, view.byteLength};
+}
+
 namespace {
 
 // tinygltf's file access, guarded (gltf_files.h); it never writes.
@@ -63,28 +79,21 @@ double normalizedValue(const unsigned char* p, int componentType, bool normalize
 // Reads `count` elements of `components` values at view + offset into out.
 void readElements(const Document& doc, int viewIndex, size_t offset, int componentType, bool normalized,
                   size_t count, int components, const std::string& what, double* out) {
-  const tinygltf::Model& m = *doc.model;
-  if (viewIndex < 0 || size_t(viewIndex) >= m.bufferViews.size())
-    doc.fail(what + ": buffer view " + std::to_string(viewIndex) + " does not exist");
-  const tinygltf::BufferView& view = m.bufferViews[size_t(viewIndex)];
-  if (view.buffer < 0 || size_t(view.buffer) >= m.buffers.size())
-    doc.fail(what + ": buffer " + std::to_string(view.buffer) + " does not exist");
-  const std::vector<unsigned char>& data = m.buffers[size_t(view.buffer)].data;
+  const std::span<const uint8_t> bytes = bufferViewBytes(doc, viewIndex, what);  // checked
+  const tinygltf::BufferView& view = doc.model->bufferViews[size_t(viewIndex)];
   const int componentSize = tinygltf::GetComponentSizeInBytes(uint32_t(componentType));
   if (componentSize <= 0) doc.fail(what + ": unknown component type " + std::to_string(componentType));
   const size_t elementSize = size_t(componentSize) * size_t(components);
   const size_t stride = view.byteStride ? view.byteStride : elementSize;
   if (count == 0) return;
   // Every size comes from the file: check without overflowing size_t.
-  const bool viewFits = view.byteOffset <= data.size() && view.byteLength <= data.size() - view.byteOffset;
   const bool elementsFit = offset <= view.byteLength && elementSize <= view.byteLength - offset &&
                            (count - 1) <= (view.byteLength - offset - elementSize) / stride;
   const size_t need = elementsFit ? offset + (count - 1) * stride + elementSize : size_t(-1);
-  if (!elementsFit || !viewFits)
+  if (!elementsFit)
     doc.fail(what + ": needs " + std::to_string(need) + " bytes of buffer view " + std::to_string(viewIndex) +
-             ", which has " + std::to_string(view.byteLength) + " (of a buffer of " + std::to_string(data.size()) +
-             " bytes): truncated or corrupt file");
-  const unsigned char* base = data.data() + view.byteOffset + offset;
+             ", which has " + std::to_string(view.byteLength) + ": truncated or corrupt file");
+  const unsigned char* base = bytes.data() + offset;
   for (size_t i = 0; i < count; ++i)
     for (int c = 0; c < components; ++c)
       out[i * size_t(components) + size_t(c)] =

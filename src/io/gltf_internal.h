@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ std::vector<float> readFloats(const Document& doc, int accessor, int components,
 // Integer elements (indices, joints), `components` per element.
 std::vector<uint32_t> readUints(const Document& doc, int accessor, int components, const std::string& what);
 size_t accessorCount(const Document& doc, int accessor);
+// A buffer view's bytes (an embedded image's, an accessor's), after checking
+// that the view and its buffer exist and the view fits the buffer.
+std::span<const uint8_t> bufferViewBytes(const Document& doc, int viewIndex, const std::string& what);
 
 // ---- animation ----
 

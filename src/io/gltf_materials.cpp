@@ -51,19 +51,6 @@ std::string imagePath(const Document& doc, const std::string& uri, const std::st
   return (std::filesystem::path(doc.path).parent_path() / rel).string();
 }
 
-// The image's bytes from its buffer view, checked against the buffer.
-std::span<const uint8_t> bufferViewBytes(const Document& doc, int viewIndex, const std::string& what) {
-  const tinygltf::Model& m = *doc.model;
-  if (viewIndex < 0 || size_t(viewIndex) >= m.bufferViews.size())
-    doc.fail(what + ": buffer view " + std::to_string(viewIndex) + " does not exist");
-  const tinygltf::BufferView& view = m.bufferViews[size_t(viewIndex)];
-  if (view.buffer < 0 || size_t(view.buffer) >= m.buffers.size())
-    doc.fail(what + ": buffer " + std::to_string(view.buffer) + " does not exist");
-  const std::vector<unsigned char>& data = m.buffers[size_t(view.buffer)].data;
-  if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
-    doc.fail(what + ": buffer view " + std::to_string(viewIndex) + " does not fit its buffer: truncated or corrupt file");
-  return {data.data() + view.byteOffset, view.byteLength};
-}
 
 }  // namespace
 
