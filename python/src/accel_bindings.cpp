@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "bindings.h"
+#include "result_memory.h"
 
 namespace mbrt::python {
 namespace {
@@ -130,6 +131,29 @@ struct PyHits {
   py::array_t<uint32_t> geomID, primID, instID;
 };
 
+// Seven arrays of n hits, views into one recycled block (result_memory.h).
+PyHits newHits(py::ssize_t n) {
+  const py::ssize_t padded = (n + 15) / 16 * 16;  // each array starts 64-byte aligned
+  const ResultBlock block = acquireResultBlock(size_t(padded) * 9 * 4);
+  py::ssize_t offset = 0;
+  auto take = [&](auto type, std::vector<py::ssize_t> shape) {
+    using T = decltype(type);
+    auto* first = reinterpret_cast<T*>(block.data + offset);
+    offset += padded * (shape.size() == 2 ? 3 : 1) * py::ssize_t(sizeof(T));
+    std::vector<py::ssize_t> strides = shape.size() == 2 ? std::vector<py::ssize_t>{12, 4} : std::vector<py::ssize_t>{4};
+    return py::array_t<T>(shape, strides, first, block.owner);
+  };
+  PyHits h;
+  h.t = take(float{}, {n});
+  h.u = take(float{}, {n});
+  h.v = take(float{}, {n});
+  h.ng = take(float{}, {n, 3});
+  h.geomID = take(uint32_t{}, {n});
+  h.primID = take(uint32_t{}, {n});
+  h.instID = take(uint32_t{}, {n});
+  return h;
+}
+
 template <class Body>
 void parallelOverRays(size_t count, Body&& body) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
@@ -145,9 +169,7 @@ py::object intersect(const PyAccel& self, const py::object& rays, const py::obje
   const py::ssize_t n = py::ssize_t(in.count);
   py::object result = out;
   if (out.is_none()) {
-    result = py::cast(PyHits{py::array_t<float>(n), py::array_t<float>(n), py::array_t<float>(n),
-                             py::array_t<float>({n, py::ssize_t(3)}), py::array_t<uint32_t>(n),
-                             py::array_t<uint32_t>(n), py::array_t<uint32_t>(n)});
+    result = py::cast(newHits(n));
   } else if (!py::isinstance<PyHits>(out) || out.cast<PyHits&>().t.size() != n) {
     fail("out must be an mbrt.Hits of as many rays (" + std::to_string(n) + ")");
   }

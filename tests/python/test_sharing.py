@@ -110,3 +110,26 @@ def test_intersect_into_an_earlier_result():
     assert hits.t == pytest.approx([5.0, 7.0, 5.0])
     with pytest.raises(mbrt.Error, match="as many rays"):
         accel.intersect(rays[:2], out=hits)
+
+
+def test_recycled_result_memory_never_aliases_a_live_result():
+    # The result arrays of a dropped call are reused by the next one; any
+    # array still held (even one field alone) keeps its memory to itself.
+    indices, steps = moving_quad(steps=2, offset=0.0)
+    scene = mbrt.Scene()
+    scene.add_triangle_mesh(indices, steps)
+    accel = mbrt.Accel(scene, "stbvh")
+    near, far = np.repeat(RAY, 1000, axis=0), np.repeat(RAY, 1000, axis=0)
+    far[:, 2] = -9.0
+    kept_t = accel.intersect(near).t  # the Hits object is dropped, t is held
+    kept = accel.intersect(near)
+    del kept  # its memory goes to the next call
+    for _ in range(3):
+        again = accel.intersect(far)
+        assert again.t == pytest.approx(np.full(1000, 9.0))
+        assert again.ng.shape == (1000, 3) and again.ng.flags.writeable
+        assert np.all(again.prim_id != 0xFFFFFFFF) and np.all(again.inst_id == 0xFFFFFFFF)
+        assert kept_t == pytest.approx(np.full(1000, 5.0))
+        del again
+    empty = accel.intersect(np.zeros((0, 9), dtype=np.float32))
+    assert len(empty) == 0 and empty.ng.shape == (0, 3)
