@@ -6,9 +6,9 @@
 # runs its tracing test: 8 threads tracing one accel of every kind at once
 # (single rays, batches, occlusion, stats), a filter on the tracing threads.
 # Any report fails the run. The test of builds running at once is left to
-# the normal build: under TSan it reports writes to memory that an earlier
-# build's thread wrote, with no allocation TSan saw in between (TBB's
-# allocator recycles memory invisibly to TSan), see docs/robustness.md.
+# the normal build: under TSan it reports TBB zeroing, inside libtbb, task
+# memory that an earlier build's thread wrote (TBB's allocator recycles
+# memory invisibly to TSan), see docs/robustness.md.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 

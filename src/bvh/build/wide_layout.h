@@ -17,10 +17,15 @@ template <int N, bool Motion>
 struct UnorderedWideBvh {
   static constexpr uint32_t kNone = 0xFFFFFFFFu;
   // Inner lanes' `child` index `nodes`, leaf lanes' index `prims`, `times` of
-  // a node indexes `times`.
-  tbb::concurrent_vector<WideNode<N, Motion>> nodes;
-  tbb::concurrent_vector<LaneTimes<N>> times;
-  tbb::concurrent_vector<PrimRef> prims;
+  // a node indexes `times`. The segments (a few dozen per build) come from
+  // the system allocator rather than TBB's: its recycling of one build's
+  // freed memory into another's is invisible to ThreadSanitizer, which then
+  // reports the reuse as a race between the two builds.
+  template <class T>
+  using Vector = tbb::concurrent_vector<T, std::allocator<T>>;
+  Vector<WideNode<N, Motion>> nodes;
+  Vector<LaneTimes<N>> times;
+  Vector<PrimRef> prims;
   uint32_t root = kNone;
   GrowingCharge charge;  // the storage above, as it grows
 
