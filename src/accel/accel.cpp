@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "accel/structure_factory.h"
+#include "core/isolated_work.h"
 #include "scene/scene_context.h"
 
 namespace mbrt {
@@ -128,7 +129,8 @@ void Accel::construct() {
   structure_ = nullptr;
   built_.reset();
   const auto start = std::chrono::steady_clock::now();
-  built_ = std::make_unique<detail::BuiltStructure>(*scene_, options_);
+  // Isolated: a caller's parallel loop around the build cannot cut it short.
+  detail::runIsolatedFromCancellation([&] { built_ = std::make_unique<detail::BuiltStructure>(*scene_, options_); });
   structure_ = built_->structure.get();
   buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   invalidRays_ = 0;
@@ -142,7 +144,9 @@ void Accel::rebuild() {
 bool Accel::refit() {
   checkScene();
   scene_->validate(options_.maxInstanceDepth);
-  if (structure_ && structure_->refit()) return true;
+  bool refitted = false;
+  if (structure_) detail::runIsolatedFromCancellation([&] { refitted = structure_->refit(); });
+  if (refitted) return true;
   construct();
   return false;
 }

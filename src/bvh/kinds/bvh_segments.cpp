@@ -9,6 +9,7 @@
 #include "bvh/inspect.h"
 #include "bvh/sah_cost.h"
 #include "bvh/traverse.h"
+#include "core/isolated_work.h"
 #include "core/traced_structure.h"
 #include "scene/branching.h"
 #include "scene/primitive_bounds.h"
@@ -53,8 +54,11 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
     const std::vector<PrimRef> prims = ctx.primitives();
     const uint32_t n = std::max(1u, ctx.scene().maxSegments());
     trees_.resize(n);
-    // Independent trees: built side by side (each is deterministic).
-    tbb::parallel_for(0u, n, [&](uint32_t i) { buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i]); });
+    // Independent trees: built side by side (each is deterministic), each
+    // isolated so that one running out of budget cannot cut another short.
+    tbb::parallel_for(0u, n, [&](uint32_t i) {
+      runIsolatedFromCancellation([&] { buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i]); });
+    });
   }
 
   template <bool AnyHit, bool Count>
