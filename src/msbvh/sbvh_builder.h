@@ -7,10 +7,16 @@
 // cost. Reference growth is capped: the root may add maxGrowth * (primitives)
 // references, and every split hands what is left to its children in
 // proportion to their sizes (so the tree does not depend on thread timing).
+//
+// Storage: one reference array in which every subtree's references are
+// followed by its growth room (the budget it was handed), so splits work in
+// place, and the nodes in one growing array; no node allocates.
 #pragma once
 
-#include <memory>
+#include <span>
 #include <vector>
+
+#include <tbb/concurrent_vector.h>
 
 #include "bvh/heuristics/spatial_split.h"
 
@@ -33,18 +39,26 @@ struct SbvhSettings {
 // filling), so a half-full node's leaves get tested one lane each at no
 // extra node.
 struct SbvhNode {
-  Box3f box;                         // union of the references' boxes
-  std::unique_ptr<SbvhNode> child[2];
-  std::vector<SplitRef> refs;        // nodes without children only
-  bool fill = false;                 // an SAH leaf or below one
-  bool isLeaf() const { return !child[0]; }
+  static constexpr uint32_t kNone = ~0u;
+  Box3f box;                           // union of the references' boxes
+  uint32_t child[2] = {kNone, kNone};  // indices in SbvhTree::nodes
+  std::span<const SplitRef> refs;      // nodes without children only (in SbvhTree's arrays)
+  bool fill = false;                   // an SAH leaf or below one
+  bool isLeaf() const { return child[0] == kNone; }
 };
 
-struct SbvhStats {
-  size_t spatialSplits = 0, objectSplits = 0;
+struct SbvhTree {
+  tbb::concurrent_vector<SbvhNode> nodes;  // the root first
+  std::vector<SplitRef> refs;              // the leaves' references, with the subtrees' growth room
+  // Subtrees whose spatial split added more references than their room (the
+  // binned counts are estimates): their references live here.
+  tbb::concurrent_vector<std::vector<SplitRef>> overflow;
+
+  bool empty() const { return nodes.empty(); }
+  const SbvhNode& root() const { return nodes[0]; }
+  const SbvhNode& child(const SbvhNode& n, int i) const { return nodes[n.child[i]]; }
 };
 
-std::unique_ptr<SbvhNode> buildSbvh(std::vector<SplitRef> refs, const SbvhSettings& settings,
-                                    const RefClipper& clipper);
+SbvhTree buildSbvh(std::vector<SplitRef> refs, const SbvhSettings& settings, const RefClipper& clipper);
 
 }  // namespace mbrt::detail

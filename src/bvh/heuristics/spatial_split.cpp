@@ -178,15 +178,16 @@ SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeB
 }
 
 size_t applySpatialSplit(std::span<const SplitRef> refs, const SpatialSplit& split, const RefClipper& clipper,
-                         std::vector<SplitRef>& left, std::vector<SplitRef>& right) {
+                         SpatialSplitScratch& out) {
   const int axis = split.axis;
   const float pos = split.pos;
-  struct Straddler {
-    const SplitRef* ref;
-    SplitRef l, r;
-    bool split;
-  };
-  std::vector<Straddler> straddlers;
+  using Straddler = SpatialSplitScratch::Straddler;
+  std::vector<SplitRef>& left = out.left;
+  std::vector<SplitRef>& right = out.right;
+  std::vector<Straddler>& straddlers = out.straddlers;
+  left.clear();
+  right.clear();
+  straddlers.clear();
   Box3f lbox, rbox;
   size_t nl = 0, nr = 0;
   for (const SplitRef& r : refs) {
