@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "geometry/clip.h"
 #include "scene/primitive_bounds.h"
 
@@ -84,6 +86,43 @@ void KeyBounder::chop(PrimRef prim, const Box3f& box, int axis, std::span<const 
   const Triangle& t = g.triangles()[prim.primID];
   chopTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1), g.vertexAt(kBuildTime, t.v2), box, axis,
                planes, pieces);
+}
+
+BuildTimeClipper::BuildTimeClipper(const SceneContext& ctx, const KeyBounder& bounder)
+    : ctx_(ctx), bounder_(bounder) {
+  vertices_.resize(ctx.scene().numGeometries());
+  for (uint32_t g = 0; g < vertices_.size(); ++g) {
+    const Geometry& geo = ctx.geometry(g);
+    if (geo.type() != GeometryType::Triangles) continue;
+    std::vector<Vec3f>& v = vertices_[g];
+    v.resize(geo.vertices(0).count);
+    tbb::parallel_for(size_t(0), v.size(), [&](size_t i) { v[i] = geo.vertexAt(kBuildTime, uint32_t(i)); });
+    bytes_ += v.size() * sizeof(Vec3f);
+  }
+}
+
+bool BuildTimeClipper::corners(PrimRef prim, Vec3f (&v)[3]) const {
+  const Geometry& g = ctx_.geometry(prim.geomID);
+  if (g.type() != GeometryType::Triangles) return false;
+  const Triangle& t = g.triangles()[prim.primID];
+  const std::vector<Vec3f>& at = vertices_[prim.geomID];
+  v[0] = at[t.v0];
+  v[1] = at[t.v1];
+  v[2] = at[t.v2];
+  return true;
+}
+
+Box3f BuildTimeClipper::clip(PrimRef prim, const Box3f& box) const {
+  Vec3f v[3];
+  if (!corners(prim, v)) return bounder_.clip(prim, box);
+  return clipTriangleBounds(v[0], v[1], v[2], box);
+}
+
+void BuildTimeClipper::chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes,
+                            Box3f* pieces) const {
+  Vec3f v[3];
+  if (!corners(prim, v)) return bounder_.chop(prim, box, axis, planes, pieces);
+  chopTriangle(v[0], v[1], v[2], box, axis, planes, pieces);
 }
 
 bool KeyBounder::pieceKeys(PrimRef prim, const Box3f& region, Box3f* out) const {

@@ -170,7 +170,9 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
         refs[i] = {bounder_.buildBox(prims[i]), Box3f(Vec3f(-kInf), Vec3f(kInf)), prims[i]};
       });
       std::erase_if(refs, [](const SplitRef& r) { return r.box.empty() || !isFinite(r.box.lower) || !isFinite(r.box.upper); });
-      const SbvhTree tree = buildSbvh(std::move(refs), s, bounder_);
+      const BuildTimeClipper clipper(ctx, bounder_);
+      const ScopedCharge vertices(budget, clipper.bytes(), "the MSBVH build's vertices at the build time");
+      const SbvhTree tree = buildSbvh(std::move(refs), s, clipper);
       if (!tree.empty()) {
         emit(tree, tree.root(), 1);
         computeLeafKeys();
