@@ -43,7 +43,8 @@ class Builder {
     if (depth < s_.maxBinnedDepth && budget > 0 && s_.alpha < 1.0f) {
       const float overlap = obj.valid() ? intersect(objSides[0], objSides[1]).halfArea() : area;
       if (overlap > s_.alpha * rootArea_ && overlap > s_.nodeOverlap * area) {
-        sp = findSpatialSplit(refs, node.box, adaptiveObjectBins(s_.spatialBins, n), clipper_);
+        sp = findSpatialSplit(refs, node.box, adaptiveObjectBins(s_.spatialBins, n), clipper_,
+                              s_.spatialLongestAxisOnly ? node.box.largestAxis() : -1);
         if (sp.valid() && (sp.leftCount >= n || sp.rightCount >= n || sp.leftCount + sp.rightCount - n > budget))
           sp = SpatialSplit();
       }

@@ -187,7 +187,7 @@ void sweepSpatialAxis(const SpatialBin* ab, const SpatialAxis& ax, int axis, siz
 }  // namespace
 
 SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
-                              const RefClipper& clipper) {
+                              const RefClipper& clipper, int onlyAxis) {
   numBins = std::clamp(numBins, 1, kMaxSpatialBins);
   SpatialAxis axes[3];
   for (int axis = 0; axis < 3; ++axis) {
@@ -195,6 +195,7 @@ SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeB
     ax.lo = nodeBox.lower[axis];
     ax.extent = nodeBox.upper[axis] - ax.lo;
     if (!(ax.extent > 0.0f)) ax.extent = 0.0f;
+    if (onlyAxis >= 0 && axis != onlyAxis) ax.extent = 0.0f;
     ax.scale = ax.valid() ? float(numBins) / ax.extent : 0.0f;
     ax.numBins = numBins;
   }

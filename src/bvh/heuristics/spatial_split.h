@@ -53,11 +53,12 @@ struct SpatialSplit {
 };
 
 // Best spatial split of the references over `nodeBox` with `numBins` bins
-// per axis (at most 256); invalid when no plane separates anything. Large
-// nodes bin in parallel over fixed blocks (exact merges: the result does not
-// depend on the thread count).
+// per axis (at most 256), on every axis or only on `onlyAxis` (>= 0);
+// invalid when no plane separates anything. Large nodes bin in parallel
+// over fixed blocks (exact merges: the result does not depend on the thread
+// count).
 SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
-                              const RefClipper& clipper);
+                              const RefClipper& clipper, int onlyAxis = -1);
 
 // What applySpatialSplit makes: the sides, and its working list. Kept by
 // the caller from one split to the next, so that no split allocates once
