@@ -29,7 +29,6 @@
 // interval, because between consecutive break points both are linear.
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "bvh/heuristics/spatial_split.h"
@@ -73,6 +72,8 @@ class KeyBounder final : public RefClipper {
     uint32_t interval;  // between keys i and i+1
     float time, fraction;
   };
+  template <class At>
+  void keysOf(PrimRef prim, Box3f* out, const At& at) const;
   const SceneContext& ctx_;
   uint32_t n_;
   std::vector<std::vector<Break>> breaks_;  // per geometry: step times strictly between keys

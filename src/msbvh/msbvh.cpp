@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <new>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "bvh/inspect.h"
@@ -333,20 +334,25 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
   }
 
   void computeLeafKeys() {
-    tbb::parallel_for(size_t(0), nodes_.size(), [&](size_t i) {
-      std::vector<Box3f> lane(n_ + 1), piece(n_ + 1);
-      const MsNode<N>& node = nodes_.node(uint32_t(i));
-      for (int l = 0; l < N; ++l) {
-        if (node.isEmpty(l) || !node.isLeaf(l)) continue;
-        std::fill(lane.begin(), lane.end(), Box3f());
-        for (uint32_t r = 0; r < node.count[l]; ++r) {
-          const uint32_t ref = node.child[l] + r;
-          if (!bounder_.pieceKeys(prims_[ref], regions_[ref], piece.data())) continue;
-          for (uint32_t k = 0; k <= n_; ++k) lane[k].extend(piece[k]);
-        }
-        for (uint32_t k = 0; k <= n_; ++k) keys(uint32_t(i), k).set(l, lane[k]);
-      }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes_.size()), [&](const tbb::blocked_range<size_t>& range) {
+      std::vector<Box3f> lane(n_ + 1), piece(n_ + 1);  // per block of nodes, not per node
+      for (size_t i = range.begin(); i != range.end(); ++i) computeLeafKeys(uint32_t(i), lane, piece);
     });
+  }
+
+  // The keys of node i's leaf lanes (`lane`, `piece`: n_ + 1 boxes of scratch).
+  void computeLeafKeys(uint32_t i, std::vector<Box3f>& lane, std::vector<Box3f>& piece) {
+    const MsNode<N>& node = nodes_.node(i);
+    for (int l = 0; l < N; ++l) {
+      if (node.isEmpty(l) || !node.isLeaf(l)) continue;
+      std::fill(lane.begin(), lane.end(), Box3f());
+      for (uint32_t r = 0; r < node.count[l]; ++r) {
+        const uint32_t ref = node.child[l] + r;
+        if (!bounder_.pieceKeys(prims_[ref], regions_[ref], piece.data())) continue;
+        for (uint32_t k = 0; k <= n_; ++k) lane[k].extend(piece[k]);
+      }
+      for (uint32_t k = 0; k <= n_; ++k) keys(i, k).set(l, lane[k]);
+    }
   }
 
   // Inner lanes: the union of the child's lanes, per key (children come
