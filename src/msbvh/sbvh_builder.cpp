@@ -38,7 +38,9 @@ class Builder {
     const float area = node.box.halfArea();
     ObjectSplit obj;
     Box3f objSides[2];
-    if (depth < s_.maxBinnedDepth) obj = findObjectSplit(refs, info, s_.objectBins, objSides);
+    // Object bins as the BVH family's, 8 + 10% of the references (at most
+    // objectBins): a small node swept 32 bins per axis.
+    if (depth < s_.maxBinnedDepth) obj = findObjectSplit(refs, info, adaptiveObjectBins(s_.objectBins, n), objSides);
     SpatialSplit sp;
     if (depth < s_.maxBinnedDepth && budget > 0 && s_.alpha < 1.0f) {
       const float overlap = obj.valid() ? intersect(objSides[0], objSides[1]).halfArea() : area;

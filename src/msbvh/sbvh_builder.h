@@ -24,7 +24,7 @@ namespace mbrt::detail {
 
 struct SbvhSettings {
   int maxLeafSize = 8;
-  int objectBins = 32;
+  int objectBins = 32;         // at most; a node uses adaptiveObjectBins(objectBins, its references)
   int spatialBins = 32;        // at most; a node uses adaptiveObjectBins(spatialBins, its references)
   float traversalCost = 1.0f;  // C_T; C_I = 1
   float alpha = 1e-5f;         // overlap threshold (1 disables spatial splits)
