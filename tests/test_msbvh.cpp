@@ -525,7 +525,7 @@ TEST(Sbvh, SahLeavesAreSplitDownToSingleReferencesForNodeFilling) {
   }
   detail::SbvhSettings settings;
   settings.alpha = 1.0f;  // object splits only: NoClip is never asked
-  const auto root = detail::buildSbvh(refs, settings, NoClip());
+  const detail::SbvhTree tree = detail::buildSbvh(refs, settings, NoClip());
   size_t sahLeaves = 0, singles = 0;
   std::function<size_t(const detail::SbvhNode&, bool)> visit = [&](const detail::SbvhNode& n, bool inFill) {
     EXPECT_TRUE(n.fill || !inFill) << "below an SAH leaf every node is a fill node";
@@ -535,14 +535,14 @@ TEST(Sbvh, SahLeavesAreSplitDownToSingleReferencesForNodeFilling) {
       return n.refs.size();
     }
     EXPECT_TRUE(n.refs.empty());
-    const size_t below = visit(*n.child[0], n.fill) + visit(*n.child[1], n.fill);
+    const size_t below = visit(tree.child(n, 0), n.fill) + visit(tree.child(n, 1), n.fill);
     if (n.fill && !inFill) {
       ++sahLeaves;
       EXPECT_LE(below, size_t(settings.maxLeafSize));
     }
     return below;
   };
-  EXPECT_EQ(visit(*root, false), refs.size());
+  EXPECT_EQ(visit(tree.root(), false), refs.size());
   EXPECT_EQ(singles, refs.size());
   EXPECT_GT(sahLeaves, 0u);
   EXPECT_LT(sahLeaves, refs.size()) << "the SAH keeps some references together";

@@ -1,6 +1,9 @@
 #include "geometry/clip.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "core/simd.h"
 
 namespace mbrt::detail {
 namespace {
@@ -93,28 +96,59 @@ Box3f clipTriangleBounds(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box) {
   return clipToBox<false>(triangle(v0, v1, v2), box).bounds();
 }
 
+namespace {
+
+using P4 = Pack<4>;
+
+// Box3f::extend(p) and intersect() in three lanes, the operands in the
+// order that makes each lane pick as std::min / std::max do (same bits,
+// signed zeros included).
+struct LaneBox {
+  P4 lo = P4::set1(kInf), hi = P4::set1(-kInf);
+  void extend(P4 p) {
+    lo = vmin(p, lo);
+    hi = vmax(p, hi);
+  }
+  LaneBox intersect(const LaneBox& with) const { return {vmax(with.lo, lo), vmin(with.hi, hi)}; }
+  Box3f get() const {
+    alignas(16) float l[4], h[4];
+    lo.store(l);
+    hi.store(h);
+    return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
+  }
+};
+
+P4 lanesOf(Vec3f v) { return P4::of(v.x, v.y, v.z, 0.0f); }
+
+}  // namespace
+
 void chopTriangle(Vec3f v0, Vec3f v1, Vec3f v2, const Box3f& box, int axis, std::span<const float> planes,
                   Box3f* pieces) {
   const Vec3f v[3] = {v0, v1, v2};
-  Box3f rest = box;
+  const P4 lanes[3] = {lanesOf(v0), lanesOf(v1), lanesOf(v2)};
+  // The axis lane, and the others: an edge crossing is put on the plane.
+  const P4 index = P4::of(0.0f, 1.0f, 2.0f, 3.0f), axisIndex = P4::set1(float(axis));
+  const P4 onAxis = equalLanes(index, axisIndex), offAxis = lessLanes(index, axisIndex) | lessLanes(axisIndex, index);
+  LaneBox rest{lanesOf(box.lower), lanesOf(box.upper)};
   for (size_t k = 0; k < planes.size(); ++k) {
     const float p = planes[k];
-    Box3f below, above;
+    LaneBox below, above;
     for (int e = 0; e < 3; ++e) {
-      const Vec3f &a = v[e], &b = v[e == 2 ? 0 : e + 1];
-      if (a[axis] <= p) below.extend(a);
-      if (a[axis] >= p) above.extend(a);
-      if ((a[axis] < p && b[axis] > p) || (a[axis] > p && b[axis] < p)) {
-        Vec3f c = lerp(a, b, std::clamp((p - a[axis]) / (b[axis] - a[axis]), 0.0f, 1.0f));
-        c[axis] = p;
+      const int f = e == 2 ? 0 : e + 1;
+      const float a = v[e][axis], b = v[f][axis];
+      if (a <= p) below.extend(lanes[e]);
+      if (a >= p) above.extend(lanes[e]);
+      if ((a < p && b > p) || (a > p && b < p)) {
+        const float t = std::clamp((p - a) / (b - a), 0.0f, 1.0f);  // lerp(v[e], v[f], t), then x[axis] = p
+        const P4 c = ((lanes[e] * P4::set1(1.0f - t) + lanes[f] * P4::set1(t)) & offAxis) | (P4::set1(p) & onAxis);
         below.extend(c);
         above.extend(c);
       }
     }
-    pieces[k] = intersect(below, rest);
-    rest = intersect(above, rest);
+    pieces[k] = below.intersect(rest).get();
+    rest = above.intersect(rest);
   }
-  pieces[planes.size()] = rest;
+  pieces[planes.size()] = rest.get();
 }
 
 bool clipSegment(Vec3f a, Vec3f b, const Box3f& box, float& s0, float& s1) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "geometry/clip.h"
 #include "scene/primitive_bounds.h"
 
@@ -86,43 +88,86 @@ void KeyBounder::chop(PrimRef prim, const Box3f& box, int axis, std::span<const 
                planes, pieces);
 }
 
+BuildTimeClipper::BuildTimeClipper(const SceneContext& ctx, const KeyBounder& bounder)
+    : ctx_(ctx), bounder_(bounder) {
+  vertices_.resize(ctx.scene().numGeometries());
+  for (uint32_t g = 0; g < vertices_.size(); ++g) {
+    const Geometry& geo = ctx.geometry(g);
+    if (geo.type() != GeometryType::Triangles) continue;
+    std::vector<Vec3f>& v = vertices_[g];
+    v.resize(geo.vertices(0).count);
+    tbb::parallel_for(size_t(0), v.size(), [&](size_t i) { v[i] = geo.vertexAt(kBuildTime, uint32_t(i)); });
+    bytes_ += v.size() * sizeof(Vec3f);
+  }
+}
+
+bool BuildTimeClipper::corners(PrimRef prim, Vec3f (&v)[3]) const {
+  const Geometry& g = ctx_.geometry(prim.geomID);
+  if (g.type() != GeometryType::Triangles) return false;
+  const Triangle& t = g.triangles()[prim.primID];
+  const std::vector<Vec3f>& at = vertices_[prim.geomID];
+  v[0] = at[t.v0];
+  v[1] = at[t.v1];
+  v[2] = at[t.v2];
+  return true;
+}
+
+Box3f BuildTimeClipper::clip(PrimRef prim, const Box3f& box) const {
+  Vec3f v[3];
+  if (!corners(prim, v)) return bounder_.clip(prim, box);
+  return clipTriangleBounds(v[0], v[1], v[2], box);
+}
+
+void BuildTimeClipper::chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes,
+                            Box3f* pieces) const {
+  Vec3f v[3];
+  if (!corners(prim, v)) return bounder_.chop(prim, box, axis, planes, pieces);
+  chopTriangle(v[0], v[1], v[2], box, axis, planes, pieces);
+}
+
 bool KeyBounder::pieceKeys(PrimRef prim, const Box3f& region, Box3f* out) const {
   const Geometry& g = ctx_.geometry(prim.geomID);
   const Box3f clipBox = grow(region, clipMargin(buildBox(prim)));
-  std::function<Box3f(float)> at;
-  ClippedPolygon poly;
-  float s0 = 0.0f, s1 = 1.0f;
   switch (g.type()) {
     case GeometryType::Triangles: {
       const Triangle& t = g.triangles()[prim.primID];
-      poly = clipTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1), g.vertexAt(kBuildTime, t.v2),
-                          clipBox);
+      const ClippedPolygon poly = clipTriangle(g.vertexAt(kBuildTime, t.v0), g.vertexAt(kBuildTime, t.v1),
+                                               g.vertexAt(kBuildTime, t.v2), clipBox);
       if (poly.count == 0) return false;
-      at = [&](float time) {
+      keysOf(prim, out, [&](float time) {
         const Vec3f v0 = g.vertexAt(time, t.v0), v1 = g.vertexAt(time, t.v1), v2 = g.vertexAt(time, t.v2);
         Box3f b;
         for (int i = 0; i < poly.count; ++i) b.extend(evalBary(poly.bary[i], v0, v1, v2));
         return b;
-      };
-      break;
+      });
+      return true;
     }
     case GeometryType::Segments: {
       const Segment& s = g.segments()[prim.primID];
       const float r = radiusOf(g, s);
+      float s0 = 0.0f, s1 = 1.0f;
       // Axis points c(s) inside the region; the radius pads them below.
       if (!clipSegment(g.vertexAt(kBuildTime, s.v0), g.vertexAt(kBuildTime, s.v1), clipBox, s0, s1)) return false;
-      at = [&, r](float time) {
+      keysOf(prim, out, [&](float time) {
         const Vec3f a = g.vertexAt(time, s.v0), b = g.vertexAt(time, s.v1);
         Box3f c(lerp(a, b, s0));
         c.extend(lerp(a, b, s1));
         return grow(c, Vec3f(r));
-      };
-      break;
+      });
+      return true;
     }
     case GeometryType::Instance:
-      at = [&](float time) { return boxAt(ctx_, prim, time); };
-      break;
+      keysOf(prim, out, [&](float time) { return boxAt(ctx_, prim, time); });
+      return true;
   }
+  return false;
+}
+
+// The n+1 key boxes of the piece whose box at a time `at` gives, pushed out
+// at the breaks and padded against round-off (key_bounds.h).
+template <class At>
+void KeyBounder::keysOf(PrimRef prim, Box3f* out, const At& at) const {
+  const Geometry& g = ctx_.geometry(prim.geomID);
   for (uint32_t i = 0; i <= n_; ++i) out[i] = at(float(i) / float(n_));
   for (const Break& br : breaks_[prim.geomID]) {
     Box3f& a = out[br.interval];
@@ -147,7 +192,6 @@ bool KeyBounder::pieceKeys(PrimRef prim, const Box3f& region, Box3f* out) const 
   }
   const Vec3f pad(mag * 0x1p-19f);
   for (uint32_t i = 0; i <= n_; ++i) out[i] = widen(grow(out[i], pad));
-  return true;
 }
 
 }  // namespace mbrt::detail

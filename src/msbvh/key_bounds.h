@@ -29,7 +29,6 @@
 // interval, because between consecutive break points both are linear.
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "bvh/heuristics/spatial_split.h"
@@ -73,9 +72,33 @@ class KeyBounder final : public RefClipper {
     uint32_t interval;  // between keys i and i+1
     float time, fraction;
   };
+  template <class At>
+  void keysOf(PrimRef prim, Box3f* out, const At& at) const;
   const SceneContext& ctx_;
   uint32_t n_;
   std::vector<std::vector<Break>> breaks_;  // per geometry: step times strictly between keys
+};
+
+// The clipper of the SBVH build: KeyBounder's clip and chop with the
+// triangles' vertices at the build time evaluated once (the spatial
+// binning chops every reference it meets on three axes, at every node; each
+// vertexAt interpolates two steps). Same bounds, bit for bit. Lives for the
+// build only: a refit moves the vertices.
+class BuildTimeClipper final : public RefClipper {
+ public:
+  BuildTimeClipper(const SceneContext& ctx, const KeyBounder& bounder);
+  size_t bytes() const { return bytes_; }
+  Box3f clip(PrimRef prim, const Box3f& box) const override;
+  void chop(PrimRef prim, const Box3f& box, int axis, std::span<const float> planes, Box3f* pieces) const override;
+
+ private:
+  // The triangle's vertices at the build time; false for other primitives.
+  bool corners(PrimRef prim, Vec3f (&v)[3]) const;
+
+  const SceneContext& ctx_;
+  const KeyBounder& bounder_;
+  std::vector<std::vector<Vec3f>> vertices_;  // per triangle geometry, at kBuildTime
+  size_t bytes_ = 0;
 };
 
 }  // namespace mbrt::detail

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <new>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "bvh/inspect.h"
@@ -170,9 +171,11 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
         refs[i] = {bounder_.buildBox(prims[i]), Box3f(Vec3f(-kInf), Vec3f(kInf)), prims[i]};
       });
       std::erase_if(refs, [](const SplitRef& r) { return r.box.empty() || !isFinite(r.box.lower) || !isFinite(r.box.upper); });
-      std::unique_ptr<SbvhNode> root = buildSbvh(std::move(refs), s, bounder_);
-      if (root) {
-        emit(*root, 1);
+      const BuildTimeClipper clipper(ctx, bounder_);
+      const ScopedCharge vertices(budget, clipper.bytes(), "the MSBVH build's vertices at the build time");
+      const SbvhTree tree = buildSbvh(std::move(refs), s, clipper);
+      if (!tree.empty()) {
+        emit(tree, tree.root(), 1);
         computeLeafKeys();
         propagate();
       }
@@ -265,7 +268,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
   // While there are fewer than N lanes, opens the lane with the largest area
   // among those `pick` accepts (nodes with children).
   template <class Pick>
-  static void openLargest(std::vector<const SbvhNode*>& lanes, const Pick& pick) {
+  static void openLargest(const SbvhTree& tree, std::vector<const SbvhNode*>& lanes, const Pick& pick) {
     while (int(lanes.size()) < N) {
       int best = -1;
       float area = -1.0f;
@@ -276,31 +279,32 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
         }
       if (best < 0) return;
       const SbvhNode* open = lanes[size_t(best)];
-      lanes[size_t(best)] = open->child[0].get();
-      lanes.insert(lanes.begin() + best + 1, open->child[1].get());
+      lanes[size_t(best)] = &tree.child(*open, 0);
+      lanes.push_back(&tree.child(*open, 1));
+      std::rotate(lanes.begin() + best + 1, lanes.end() - 1, lanes.end());
     }
   }
 
-  static void gatherRefs(const SbvhNode& bin, std::vector<const SplitRef*>& out) {
+  static void gatherRefs(const SbvhTree& tree, const SbvhNode& bin, std::vector<const SplitRef*>& out) {
     for (const SplitRef& r : bin.refs) out.push_back(&r);
     if (!bin.isLeaf())
-      for (const auto& c : bin.child) gatherRefs(*c, out);
+      for (int i = 0; i < 2; ++i) gatherRefs(tree, tree.child(bin, i), out);
   }
 
   // Binary SBVH -> N-wide nodes in depth-first order: a node starts with the
   // two children of a binary node and opens its largest inner child until it
   // has N (STBVH §3.3's collapse); lanes still free then split its largest
   // leaves (node filling, sbvh_builder.h).
-  uint32_t emit(const SbvhNode& bin, uint32_t depth) {
+  uint32_t emit(const SbvhTree& tree, const SbvhNode& bin, uint32_t depth) {
     depth_ = std::max(depth_, depth);
     std::vector<const SbvhNode*> lanes;
     if (bin.isLeaf() || bin.fill) {
       lanes.push_back(&bin);
     } else {
-      lanes = {bin.child[0].get(), bin.child[1].get()};
-      openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && !c.fill; });
+      lanes = {&tree.child(bin, 0), &tree.child(bin, 1)};
+      openLargest(tree, lanes, [](const SbvhNode& c) { return !c.isLeaf() && !c.fill; });
     }
-    openLargest(lanes, [](const SbvhNode& c) { return !c.isLeaf() && c.fill; });
+    openLargest(tree, lanes, [](const SbvhNode& c) { return !c.isLeaf() && c.fill; });
     const uint32_t index = nodes_.add();
     for (int l = 0; l < N; ++l) {
       nodes_.node(index).child[l] = kEmptyChild;
@@ -310,7 +314,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
       const SbvhNode& c = *lanes[size_t(l)];
       if (c.isLeaf() || c.fill) {
         std::vector<const SplitRef*> order;
-        gatherRefs(c, order);
+        gatherRefs(tree, c, order);
         nodes_.node(index).child[l] = uint32_t(prims_.size());
         nodes_.node(index).count[l] = uint8_t(order.size());
         // Sorted by geometry: the leaf test takes one run of a geometry at a time.
@@ -321,7 +325,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
           regions_.push_back(r->region);
         }
       } else {
-        const uint32_t child = emit(c, depth + 1);
+        const uint32_t child = emit(tree, c, depth + 1);
         nodes_.node(index).child[l] = child;
       }
     }
@@ -330,20 +334,25 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
   }
 
   void computeLeafKeys() {
-    tbb::parallel_for(size_t(0), nodes_.size(), [&](size_t i) {
-      std::vector<Box3f> lane(n_ + 1), piece(n_ + 1);
-      const MsNode<N>& node = nodes_.node(uint32_t(i));
-      for (int l = 0; l < N; ++l) {
-        if (node.isEmpty(l) || !node.isLeaf(l)) continue;
-        std::fill(lane.begin(), lane.end(), Box3f());
-        for (uint32_t r = 0; r < node.count[l]; ++r) {
-          const uint32_t ref = node.child[l] + r;
-          if (!bounder_.pieceKeys(prims_[ref], regions_[ref], piece.data())) continue;
-          for (uint32_t k = 0; k <= n_; ++k) lane[k].extend(piece[k]);
-        }
-        for (uint32_t k = 0; k <= n_; ++k) keys(uint32_t(i), k).set(l, lane[k]);
-      }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nodes_.size()), [&](const tbb::blocked_range<size_t>& range) {
+      std::vector<Box3f> lane(n_ + 1), piece(n_ + 1);  // per block of nodes, not per node
+      for (size_t i = range.begin(); i != range.end(); ++i) computeLeafKeys(uint32_t(i), lane, piece);
     });
+  }
+
+  // The keys of node i's leaf lanes (`lane`, `piece`: n_ + 1 boxes of scratch).
+  void computeLeafKeys(uint32_t i, std::vector<Box3f>& lane, std::vector<Box3f>& piece) {
+    const MsNode<N>& node = nodes_.node(i);
+    for (int l = 0; l < N; ++l) {
+      if (node.isEmpty(l) || !node.isLeaf(l)) continue;
+      std::fill(lane.begin(), lane.end(), Box3f());
+      for (uint32_t r = 0; r < node.count[l]; ++r) {
+        const uint32_t ref = node.child[l] + r;
+        if (!bounder_.pieceKeys(prims_[ref], regions_[ref], piece.data())) continue;
+        for (uint32_t k = 0; k <= n_; ++k) lane[k].extend(piece[k]);
+      }
+      for (uint32_t k = 0; k <= n_; ++k) keys(i, k).set(l, lane[k]);
+    }
   }
 
   // Inner lanes: the union of the child's lanes, per key (children come

@@ -8,13 +8,6 @@
 namespace mbrt::detail {
 namespace {
 
-// Relative widening: 2^-19 (a few float ulp, covering one lerp or fma each
-// in vertex interpolation and in the node-box evaluation).
-constexpr float kRelativeSlack = 1.0f / (1 << 19);
-
-float slack(float a, float b) {
-  return std::max(std::fabs(a), std::fabs(b)) * kRelativeSlack + 1e-30f;
-}
 
 // A Vec3f in the first three lanes of a 4-lane pack (the fourth unused).
 // Each operation rounds as its Vec3f twin, and minOf / maxOf pick as
@@ -66,17 +59,6 @@ LBounds widened(const BoxPack& b0, const BoxPack& b1) {
 }
 
 }  // namespace
-
-Box3f widen(const Box3f& box) {
-  if (box.empty()) return box;
-  Box3f r = box;
-  for (int a = 0; a < 3; ++a) {
-    const float s = slack(box.lower[a], box.upper[a]);
-    r.lower[a] -= s;
-    r.upper[a] += s;
-  }
-  return r;
-}
 
 LBounds widen(const LBounds& bounds) { return widened(BoxPack::of(bounds.b0), BoxPack::of(bounds.b1)); }
 

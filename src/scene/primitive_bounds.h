@@ -7,13 +7,30 @@
 // range a primitive is bounded at the nearest time it is alive.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include "scene/scene_context.h"
 
 namespace mbrt::detail {
 
+// Relative widening: 2^-19 (a few float ulp, covering one lerp or fma each
+// in vertex interpolation and in the node-box evaluation).
+inline constexpr float kRelativeSlack = 1.0f / (1 << 19);
+
 // Widens a box by a few ulp of its coordinates' magnitude, so interpolation
-// and slab-test rounding never cut a primitive off.
-Box3f widen(const Box3f& box);
+// and slab-test rounding never cut a primitive off. Inline: the spatial
+// binning widens every chopped piece.
+inline Box3f widen(const Box3f& box) {
+  if (box.empty()) return box;
+  Box3f r = box;
+  for (int a = 0; a < 3; ++a) {
+    const float s = std::max(std::fabs(box.lower[a]), std::fabs(box.upper[a])) * kRelativeSlack + 1e-30f;
+    r.lower[a] -= s;
+    r.upper[a] += s;
+  }
+  return r;
+}
 LBounds widen(const LBounds& bounds);
 
 // The box at one time, interpolated from the key boxes.

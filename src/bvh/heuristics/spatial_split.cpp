@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include "core/simd.h"
 #include "scene/primitive_bounds.h"
 
 namespace mbrt::detail {
@@ -53,8 +54,35 @@ void RefClipper::chop(PrimRef prim, const Box3f& box, int axis, std::span<const 
 
 namespace {
 
+using P4 = Pack<4>;
+
+// A box in three lanes. Each operation picks as the Box3f operation it
+// stands for (std::min / std::max: the operands in that order), so the
+// bins hold the same bits as Box3f arithmetic would.
+struct LaneBox {
+  P4 lo = P4::set1(kInf), hi = P4::set1(-kInf);
+
+  static LaneBox of(const Box3f& b) { return {P4::loadu(&b.lower.x), P4::load3(&b.upper.x)}; }
+  bool empty() const { return (lessMask(hi, lo) & 0x7) != 0; }  // Box3f::empty
+  void extend(const LaneBox& b) {  // Box3f::extend
+    lo = vmin(b.lo, lo);
+    hi = vmax(b.hi, hi);
+  }
+  LaneBox intersect(const LaneBox& b) const { return {vmax(b.lo, lo), vmin(b.hi, hi)}; }  // intersect(*this, b)
+  LaneBox widen() const {  // widen() of a box that is not empty
+    const P4 s = vmax(abs(hi), abs(lo)) * P4::set1(kRelativeSlack) + P4::set1(1e-30f);
+    return {lo - s, hi + s};
+  }
+  Box3f get() const {
+    alignas(16) float l[4], h[4];
+    lo.store(l);
+    hi.store(h);
+    return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
+  }
+};
+
 struct SpatialBin {
-  Box3f bounds;
+  LaneBox bounds;
   uint32_t enter = 0, exit = 0;
 };
 
@@ -71,14 +99,29 @@ struct SpatialAxis {
   int binOf(float x) const { return std::clamp(int((x - lo) * scale), 0, numBins - 1); }
 };
 
+// x with lane `axis` replaced by v.
+struct LaneOfAxis {
+  P4 on, off;
+  explicit LaneOfAxis(int axis) {
+    const P4 index = P4::of(0.0f, 1.0f, 2.0f, 3.0f), a = P4::set1(float(axis));
+    on = equalLanes(index, a);
+    off = lessLanes(index, a) | lessLanes(a, index);
+  }
+  P4 set(P4 x, float v) const { return (x & off) | (P4::set1(v) & on); }
+};
+
 // Bins `refs` on every valid axis into bins[axis * numBins + bin]: each
 // reference enters its first bin, exits its last, and its piece in each bin
 // it spans (chopped at the bin planes, SBVH §4.2) grows that bin.
 void fillSpatialBins(std::span<const SplitRef> refs, const SpatialAxis (&axes)[3], const RefClipper& clipper,
                      SpatialBin* bins) {
-  float planes[kMaxSpatialBins];
+  float planes[3][kMaxSpatialBins + 1];  // ax.plane(i), evaluated once
+  for (int axis = 0; axis < 3; ++axis)
+    for (int i = 0; i <= axes[axis].numBins; ++i) planes[axis][i] = axes[axis].plane(i);
+  const LaneOfAxis lanes[3] = {LaneOfAxis(0), LaneOfAxis(1), LaneOfAxis(2)};
   Box3f pieces[kMaxSpatialBins];
-  for (const SplitRef& r : refs)
+  for (const SplitRef& r : refs) {
+    const LaneBox box = LaneBox::of(r.box);
     for (int axis = 0; axis < 3; ++axis) {
       const SpatialAxis& ax = axes[axis];
       if (!ax.valid()) continue;
@@ -87,21 +130,24 @@ void fillSpatialBins(std::span<const SplitRef> refs, const SpatialAxis (&axes)[3
       ++ab[first].enter;
       ++ab[last].exit;
       if (first == last) {
-        ab[first].bounds.extend(r.box);
+        ab[first].bounds.extend(box);
         continue;
       }
       const int cuts = last - first;
-      for (int k = 0; k < cuts; ++k) planes[k] = ax.plane(first + 1 + k);
-      clipper.chop(r.prim, r.box, axis, std::span<const float>(planes, size_t(cuts)), pieces);
+      const float* cut = planes[axis] + first + 1;  // the planes inside the reference
+      clipper.chop(r.prim, r.box, axis, std::span<const float>(cut, size_t(cuts)), pieces);
       for (int k = 0; k <= cuts; ++k) {
-        if (pieces[k].empty()) continue;
-        Box3f slab = r.box;
-        if (k > 0) slab.lower[axis] = std::max(slab.lower[axis], planes[k - 1]);
-        if (k < cuts) slab.upper[axis] = std::min(slab.upper[axis], planes[k]);
+        const LaneBox piece = LaneBox::of(pieces[k]);
+        if (piece.empty()) continue;
+        // The reference's box between the planes around the bin.
+        LaneBox slab = box;
+        if (k > 0) slab.lo = lanes[axis].set(slab.lo, std::max(r.box.lower[axis], cut[k - 1]));
+        if (k < cuts) slab.hi = lanes[axis].set(slab.hi, std::min(r.box.upper[axis], cut[k]));
         // Widened against clipping round-off, never beyond the slab.
-        ab[first + k].bounds.extend(intersect(widen(pieces[k]), slab));
+        ab[first + k].bounds.extend(piece.widen().intersect(slab));
       }
     }
+  }
 }
 
 void mergeBins(std::vector<SpatialBin>& a, const std::vector<SpatialBin>& b) {
@@ -117,13 +163,13 @@ void sweepSpatialAxis(const SpatialBin* ab, const SpatialAxis& ax, int axis, siz
   Box3f rightBox[kMaxSpatialBins];
   Box3f acc;
   for (int i = ax.numBins - 1; i > 0; --i) {
-    acc.extend(ab[i].bounds);
+    acc.extend(ab[i].bounds.get());
     rightBox[i] = acc;
   }
   acc = Box3f();
   size_t nl = 0, nr = count;
   for (int i = 1; i < ax.numBins; ++i) {
-    acc.extend(ab[i - 1].bounds);
+    acc.extend(ab[i - 1].bounds.get());
     nl += ab[i - 1].enter;
     nr -= ab[i - 1].exit;
     if (nl == 0 || nr == 0) continue;
@@ -141,7 +187,7 @@ void sweepSpatialAxis(const SpatialBin* ab, const SpatialAxis& ax, int axis, siz
 }  // namespace
 
 SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
-                              const RefClipper& clipper) {
+                              const RefClipper& clipper, int onlyAxis) {
   numBins = std::clamp(numBins, 1, kMaxSpatialBins);
   SpatialAxis axes[3];
   for (int axis = 0; axis < 3; ++axis) {
@@ -149,6 +195,7 @@ SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeB
     ax.lo = nodeBox.lower[axis];
     ax.extent = nodeBox.upper[axis] - ax.lo;
     if (!(ax.extent > 0.0f)) ax.extent = 0.0f;
+    if (onlyAxis >= 0 && axis != onlyAxis) ax.extent = 0.0f;
     ax.scale = ax.valid() ? float(numBins) / ax.extent : 0.0f;
     ax.numBins = numBins;
   }
@@ -178,15 +225,16 @@ SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeB
 }
 
 size_t applySpatialSplit(std::span<const SplitRef> refs, const SpatialSplit& split, const RefClipper& clipper,
-                         std::vector<SplitRef>& left, std::vector<SplitRef>& right) {
+                         SpatialSplitScratch& out) {
   const int axis = split.axis;
   const float pos = split.pos;
-  struct Straddler {
-    const SplitRef* ref;
-    SplitRef l, r;
-    bool split;
-  };
-  std::vector<Straddler> straddlers;
+  using Straddler = SpatialSplitScratch::Straddler;
+  std::vector<SplitRef>& left = out.left;
+  std::vector<SplitRef>& right = out.right;
+  std::vector<Straddler>& straddlers = out.straddlers;
+  left.clear();
+  right.clear();
+  straddlers.clear();
   Box3f lbox, rbox;
   size_t nl = 0, nr = 0;
   for (const SplitRef& r : refs) {

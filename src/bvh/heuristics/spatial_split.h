@@ -53,16 +53,31 @@ struct SpatialSplit {
 };
 
 // Best spatial split of the references over `nodeBox` with `numBins` bins
-// per axis (at most 256); invalid when no plane separates anything. Large
-// nodes bin in parallel over fixed blocks (exact merges: the result does not
-// depend on the thread count).
+// per axis (at most 256), on every axis or only on `onlyAxis` (>= 0);
+// invalid when no plane separates anything. Large nodes bin in parallel
+// over fixed blocks (exact merges: the result does not depend on the thread
+// count).
 SpatialSplit findSpatialSplit(std::span<const SplitRef> refs, const Box3f& nodeBox, int numBins,
-                              const RefClipper& clipper);
+                              const RefClipper& clipper, int onlyAxis = -1);
+
+// What applySpatialSplit makes: the sides, and its working list. Kept by
+// the caller from one split to the next, so that no split allocates once
+// the vectors have grown.
+struct SpatialSplitScratch {
+  struct Straddler {
+    const SplitRef* ref;
+    SplitRef l, r;
+    bool split;
+  };
+  std::vector<SplitRef> left, right;
+  std::vector<Straddler> straddlers;
+};
 
 // Performs the split: references wholly on one side go there; straddling
 // ones are split, or kept whole on one side where that costs less
-// (unsplitting). Returns the number of references added.
+// (unsplitting). `out.left` and `out.right` get the sides (emptied first).
+// Returns the number of references added.
 size_t applySpatialSplit(std::span<const SplitRef> refs, const SpatialSplit& split, const RefClipper& clipper,
-                         std::vector<SplitRef>& left, std::vector<SplitRef>& right);
+                         SpatialSplitScratch& out);
 
 }  // namespace mbrt::detail
