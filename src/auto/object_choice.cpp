@@ -11,6 +11,7 @@ namespace {
 // time segment, with temporal splits, and with spatial splits over keys.
 constexpr AccelKind kMovingCandidates[] = {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Stbvh,
                                            AccelKind::Msbvh};
+constexpr double kNearCost = 0.02;
 
 std::string megabytes(size_t bytes) {
   char buf[32];
@@ -78,15 +79,23 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
     leastBytes = std::min(leastBytes, t.bytes);
   }
   size_t best = 0;
-  for (size_t i = 0; i < trials.size(); ++i) {
+  for (size_t i = 0; i < trials.size(); ++i)
     if (weighedCost(trials[i].rayCost, trials[i].bytes, leastBytes) <
         weighedCost(trials[best].rayCost, trials[best].bytes, leastBytes))
       best = i;
+  // Within kNearCost of the best score, the smallest candidate: a cost that
+  // close is within the sample's error, the memory is not.
+  const double bestScore = weighedCost(trials[best].rayCost, trials[best].bytes, leastBytes);
+  for (size_t i = 0; i < trials.size(); ++i)
+    if (weighedCost(trials[i].rayCost, trials[i].bytes, leastBytes) <= bestScore * (1.0 + kNearCost) &&
+        trials[i].bytes < trials[best].bytes)
+      best = i;
+  for (size_t i = 0; i < trials.size(); ++i) {
     figures += std::string(figures.empty() ? "" : ", ") + std::string(toString(trials[i].kind)) + " " +
                number(trials[i].rayCost) + " / " + megabytes(trials[i].bytes);
   }
   BuiltObject b = std::move(trials[best]);
-  b.why = "lowest measured ray cost weighed by memory among trial builds (cost per sampled ray / memory: " +
+  b.why = "lowest measured ray cost weighed by memory (the smallest within 2 %) among trial builds (cost per sampled ray / memory: " +
           figures + ")";
   return b;
 }
