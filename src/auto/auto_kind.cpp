@@ -152,7 +152,7 @@ bool AutoStructure::worthFlatTrial() const {
 void AutoStructure::keepCheaperOfFlat() {
   const std::vector<RayQuery> rays = sampleRays(ctx_);
   counting_ = true;
-  const double split = measureRayCost(*top_, rays, &entries_).total(RayCostWeights{}, false);
+  const double split = measureRayCost(*top_, rays, &entries_).total(RayCostWeights{}, AccelKind::Stbvh);
   counting_ = false;
   AccelStats splitStats;
   top_->fillStats(splitStats);

@@ -75,7 +75,7 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   const RayCostWeights weights;
   size_t leastBytes = ~size_t(0);
   for (BuiltObject& t : trials) {
-    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind == AccelKind::Frozen);
+    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind);
     leastBytes = std::min(leastBytes, t.bytes);
   }
   size_t best = 0;
@@ -83,13 +83,12 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
     if (weighedCost(trials[i].rayCost, trials[i].bytes, leastBytes) <
         weighedCost(trials[best].rayCost, trials[best].bytes, leastBytes))
       best = i;
-  // Within kNearCost of the best score, the smallest candidate: a cost that
-  // close is within the sample's error, the memory is not.
-  const double bestScore = weighedCost(trials[best].rayCost, trials[best].bytes, leastBytes);
+  // Within kNearCost of the best one's measured cost, the smallest
+  // candidate: a cost that close is within the sample's scatter, the memory
+  // is not.
+  const double bestCost = trials[best].rayCost;
   for (size_t i = 0; i < trials.size(); ++i)
-    if (weighedCost(trials[i].rayCost, trials[i].bytes, leastBytes) <= bestScore * (1.0 + kNearCost) &&
-        trials[i].bytes < trials[best].bytes)
-      best = i;
+    if (trials[i].rayCost <= bestCost * (1.0 + kNearCost) && trials[i].bytes < trials[best].bytes) best = i;
   for (size_t i = 0; i < trials.size(); ++i) {
     figures += std::string(figures.empty() ? "" : ", ") + std::string(toString(trials[i].kind)) + " " +
                number(trials[i].rayCost) + " / " + megabytes(trials[i].bytes);
