@@ -101,7 +101,7 @@ if(MBRT_BUILD_TESTS)
   # One CTest per case of tests/c/test_capi.c (its main runs the case named).
   foreach(case IN ITEMS version null_handles wrong_handles bad_arguments bad_kind error_callback
                         release_in_use frozen_scene time_range_and_mask srt_instances filters agreement batched soa
-                        threads stats memory_budget)
+                        threads stats memory_budget auto_options)
     add_test(NAME capi.${case} COMMAND mbrt_c_tests ${case})
   endforeach()
 

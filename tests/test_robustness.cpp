@@ -461,6 +461,7 @@ TEST(BadInput, DeepInstanceNestingUpToTheLimitAndRefusedBeyond) {
   }
   // The limit is an option.
   BuildOptions o;
+  o.kind = AccelKind::BvhInterp;
   o.maxInstanceDepth = 9;
   EXPECT_NO_THROW(Accel::build(*tooDeep, o));
 }

@@ -28,7 +28,7 @@ std::optional<AccelKind> parseAccelKind(std::string_view name);
 std::vector<AccelKind> availableAccelKinds();
 
 struct BuildOptions {
-  AccelKind kind = AccelKind::BvhInterp;
+  AccelKind kind = AccelKind::Auto;  // as the command's default (docs/auto.md)
   int branching = 8;          // BVH node width: 2, 4 or 8
   int maxLeafSize = 8;        // primitives per BVH leaf at most
   int sahBins = 32;           // bins of the binned SAH

@@ -147,6 +147,13 @@ typedef struct MBRTBuildOptions {
   float frozenTime;      /* time of the "frozen" kind */
   size_t memoryBudget;   /* bytes the build may use; 0 = unlimited */
   int maxInstanceDepth;  /* nesting of instances */
+  /* "auto" only (docs/auto.md): a part becomes an instance when one affine
+   * key per step reproduces every vertex within this fraction of the part's
+   * diagonal (0: only exact fits; default 1e-5), and the kind of every object
+   * below the top level by name (NULL: chosen per object by cost; "auto" is
+   * refused). mbrtNewAccel reads the name during the call only. */
+  float autoFitTolerance;
+  const char* autoLeafKind;
 } MBRTBuildOptions;
 
 typedef struct MBRTAccelStats {

@@ -1,6 +1,8 @@
 #include "auto/auto_kind.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <map>
 
@@ -15,6 +17,29 @@ std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);
   return buf;
+}
+
+// The flat alternative (the whole scene as one object, no top level) is
+// also built and measured when the top level would hold few objects and
+// either their keys turn or scale little (there linear bounds over the
+// original mesh are nearly as tight as the instance's static tree, and the
+// instance's ray transform and second traversal set-up cost more than they
+// save: translate, sponza) or the scene is small (demo; its trial builds
+// are cheap). Large scenes with large turns (rotate) and many objects
+// (crowd) are what instances are for: there the flat trees are many times
+// larger, which the counted cost does not see (cache misses), and their
+// trial builds would take longer than all the rest. A forced leaf kind
+// asks for the decomposition: no flat trial then.
+constexpr size_t kFlatTrialObjects = 4;
+constexpr float kFlatTrialLinearChange = 0.1f;  // largest element change of a key's 3x3 part (~6 degrees)
+constexpr size_t kFlatTrialPrimitives = 65536;
+
+float linearChange(const std::vector<Affine3f>& keys) {
+  float most = 0;
+  for (const Affine3f& k : keys)
+    for (const Vec3f& col : {k.vx - keys.front().vx, k.vy - keys.front().vy, k.vz - keys.front().vz})
+      most = std::max({most, std::fabs(col.x), std::fabs(col.y), std::fabs(col.z)});
+  return most;
 }
 
 // "rigid, kind frozen" from an object's line, for counts of many objects.
@@ -64,10 +89,15 @@ class AutoStructure final : public Structure {
   void addWorld();
   void addUserInstance(uint32_t geomID);
   void buildDirect();
+  bool worthFlatTrial() const;
+  void keepCheaperOfFlat();
   std::string describeWorld() const;
 
   const SceneContext& ctx_;
   BuildOptions leafOptions_;
+  std::unique_ptr<BuildBudget> decomposedBudget_;  // charges of the decomposition, until it is kept
+  std::atomic<uint64_t> entries_{0};               // calls into the objects while counting_
+  std::atomic<bool> counting_{false};
   AutoPlan plan_;
   std::map<const Scene*, const Structure*> userStructures_;  // built by ctx_
   std::vector<std::shared_ptr<Scene>> scenes_;               // derived scenes
@@ -92,17 +122,64 @@ AutoStructure::AutoStructure(const SceneContext& ctx) : ctx_(ctx), leafOptions_(
     buildDirect();
     return;
   }
+  decomposedBudget_ = trialBudget(ctx.budget());
   topScene_ = std::make_shared<Scene>();
   for (const RigidPart& part : plan_.rigid) addRigid(part);
   if (!plan_.world.empty()) addWorld();
   for (uint32_t id : plan_.userInstances) addUserInstance(id);
   BuildOptions topOptions = ctx.options();
   topOptions.kind = AccelKind::Stbvh;
-  topContext_ = std::make_unique<SceneContext>(*topScene_, topOptions, ctx.budget(), childFactory());
+  topContext_ = std::make_unique<SceneContext>(*topScene_, topOptions, *decomposedBudget_, childFactory());
   top_ = ctx.structureFactory()(*topContext_);
   trace_ = top_.get();
   remap_ = true;
   lines_.push_back("top level: stbvh over " + std::to_string(topScene_->numGeometries()) + " instances");
+  if (worthFlatTrial()) keepCheaperOfFlat();
+  if (top_) chargeKept(*decomposedBudget_, ctx.budget());
+}
+
+bool AutoStructure::worthFlatTrial() const {
+  if (leafOptions_.autoLeafKind || topScene_->numGeometries() > kFlatTrialObjects) return false;
+  if (ctx_.totalPrimitives() <= kFlatTrialPrimitives) return true;
+  for (const RigidPart& part : plan_.rigid)
+    if (linearChange(part.fit.keys) > kFlatTrialLinearChange) return false;
+  return true;
+}
+
+// Measures the decomposition and the whole scene built as one object on the
+// same sampled rays (ray_cost.h) and keeps the cheaper, memory weighed in
+// as for the objects' kinds.
+void AutoStructure::keepCheaperOfFlat() {
+  const std::vector<RayQuery> rays = sampleRays(ctx_);
+  counting_ = true;
+  const double split = measureRayCost(*top_, rays, &entries_).total(RayCostWeights{}, AccelKind::Stbvh);
+  counting_ = false;
+  AccelStats splitStats;
+  top_->fillStats(splitStats);
+  topContext_->addChildStats(splitStats);
+  // buildObject charges the kept kind to flatBudget; flat.budget holds it.
+  const std::unique_ptr<BuildBudget> flatBudget = trialBudget(ctx_.budget());
+  BuiltObject flat = buildObject(ctx_.scene(), leafOptions_, *flatBudget, ctx_.structureFactory(), childFactory());
+  const size_t least = std::min(flat.bytes, splitStats.bytes);
+  const std::string figures = "cost per sampled ray / memory: decomposed " + number(split) + " / " +
+                              number(double(splitStats.bytes) / 1e6) + " MB, whole scene as one object " +
+                              number(flat.rayCost) + " / " + number(double(flat.bytes) / 1e6) + " MB";
+  if (!(weighedCost(flat.rayCost, flat.bytes, least) < weighedCost(split, splitStats.bytes, least))) {
+    lines_.push_back("kept the decomposition (" + figures + ")");
+    return;
+  }
+  top_.reset();
+  topContext_.reset();
+  objects_.clear();
+  pending_.clear();
+  topMap_.clear();
+  worldMap_.clear();
+  remap_ = false;
+  chargeKept(*flat.budget, ctx_.budget());
+  objects_.push_back(std::move(flat));
+  trace_ = objects_.back().structure.get();
+  lines_.assign(1, "object 0: the whole scene as one object, cheaper than its decomposition (" + figures + "); kind " +
+                       std::string(toString(objects_.back().kind)) + ": " + objects_.back().why);
 }
 
 // Nothing rigid to extract: the whole scene is one object.
@@ -119,7 +196,7 @@ void AutoStructure::buildDirect() {
 StructureFactory AutoStructure::childFactory() {
   return [this](const SceneContext& c) -> std::unique_ptr<Structure> {
     auto p = pending_.find(&c.scene());
-    if (p != pending_.end() && p->second) return std::move(p->second);
+    if (p != pending_.end() && p->second) return std::make_unique<EntryCounting>(std::move(p->second), entries_, counting_);
     auto u = userStructures_.find(&c.scene());
     if (u != userStructures_.end()) return std::make_unique<BorrowedStructure>(*u->second);
     BuildOptions o = c.options();
@@ -137,7 +214,7 @@ void AutoStructure::addRigid(const RigidPart& part) {
   for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
   auto child = std::make_shared<Scene>();
   child->addTriangleMesh(std::move(tris), std::vector<VertexBuffer>{g.vertices(0)});
-  objects_.push_back(buildObject(*child, leafOptions_, ctx_.budget(), ctx_.structureFactory(), ctx_.structureFactory()));
+  objects_.push_back(buildObject(*child, leafOptions_, *decomposedBudget_, ctx_.structureFactory(), ctx_.structureFactory()));
   pending_[child.get()] = std::move(objects_.back().structure);
   const uint32_t id = topScene_->addInstance(child, part.fit.keys, g.timeRange());
   topScene_->setMask(id, g.mask());
@@ -187,7 +264,7 @@ void AutoStructure::addWorld() {
     }
     worldMap_.push_back({part.geomID, prims});
   }
-  objects_.push_back(buildObject(*world, leafOptions_, ctx_.budget(), ctx_.structureFactory(), ctx_.structureFactory()));
+  objects_.push_back(buildObject(*world, leafOptions_, *decomposedBudget_, ctx_.structureFactory(), ctx_.structureFactory()));
   pending_[world.get()] = std::move(objects_.back().structure);
   const uint32_t id = topScene_->addInstance(world, std::vector<Affine3f>{Affine3f()});
   scenes_.push_back(std::move(world));

@@ -11,13 +11,7 @@ namespace {
 // time segment, with temporal splits, and with spatial splits over keys.
 constexpr AccelKind kMovingCandidates[] = {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Stbvh,
                                            AccelKind::Msbvh};
-
-// Memory weighs in as a factor on the SAH cost: twice the memory of the
-// smallest candidate must buy a 10 % lower cost.
-double weighedCost(double sah, size_t bytes, size_t leastBytes) {
-  const double ratio = leastBytes > 0 ? double(bytes) / double(leastBytes) : 1.0;
-  return sah * (1.0 + 0.1 * std::log2(std::max(1.0, ratio)));
-}
+constexpr double kNearCost = 0.02;
 
 std::string megabytes(size_t bytes) {
   char buf[32];
@@ -31,13 +25,14 @@ std::string number(double v) {
   return buf;
 }
 
-BuiltObject buildKind(const Scene& scene, const BuildOptions& options, AccelKind kind, BuildBudget& budget,
+BuiltObject buildKind(const Scene& scene, const BuildOptions& options, AccelKind kind, const BuildBudget& budget,
                       const StructureFactory& registry, const StructureFactory& children) {
   BuildOptions o = options;
   o.kind = kind;
   BuiltObject b;
   b.kind = kind;
-  b.context = std::make_unique<SceneContext>(scene, o, budget, children);
+  b.budget = trialBudget(budget);
+  b.context = std::make_unique<SceneContext>(scene, o, *b.budget, children);
   b.structure = registry(*b.context);
   AccelStats s;
   b.structure->fillStats(s);
@@ -58,38 +53,88 @@ bool frozenServesAllTimes(const Scene& scene) {
   return true;
 }
 
+bool isBudgetError(const Error& e) { return std::string(e.what()).find("memory budget") != std::string::npos; }
+
+// Builds each candidate, measures it on the sampled rays and keeps the one
+// of lowest weighed cost; trials that exceed the budget are skipped while
+// another fits.
+BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene, const BuildOptions& options,
+                        const BuildBudget& budget, const StructureFactory& registry, const StructureFactory& children) {
+  std::vector<BuiltObject> trials;
+  std::string figures;
+  for (AccelKind k : kinds) {
+    try {
+      trials.push_back(buildKind(scene, options, k, budget, registry, children));
+    } catch (const Error& e) {
+      if (!isBudgetError(e) || (trials.empty() && k == kinds.back())) throw;
+      figures += std::string(figures.empty() ? "" : ", ") + std::string(toString(k)) + " over the budget";
+    }
+  }
+  if (trials.empty()) throw Error("memory budget exceeded by every candidate kind of an auto object");
+  const std::vector<RayQuery> rays = sampleRays(*trials.front().context);
+  const RayCostWeights weights;
+  size_t leastBytes = ~size_t(0);
+  for (BuiltObject& t : trials) {
+    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind);
+    leastBytes = std::min(leastBytes, t.bytes);
+  }
+  size_t best = 0;
+  for (size_t i = 0; i < trials.size(); ++i)
+    if (weighedCost(trials[i].rayCost, trials[i].bytes, leastBytes) <
+        weighedCost(trials[best].rayCost, trials[best].bytes, leastBytes))
+      best = i;
+  // Within kNearCost of the best one's measured cost, the smallest
+  // candidate: a cost that close is within the sample's scatter, the memory
+  // is not.
+  const double bestCost = trials[best].rayCost;
+  for (size_t i = 0; i < trials.size(); ++i)
+    if (trials[i].rayCost <= bestCost * (1.0 + kNearCost) && trials[i].bytes < trials[best].bytes) best = i;
+  for (size_t i = 0; i < trials.size(); ++i) {
+    figures += std::string(figures.empty() ? "" : ", ") + std::string(toString(trials[i].kind)) + " " +
+               number(trials[i].rayCost) + " / " + megabytes(trials[i].bytes);
+  }
+  BuiltObject b = std::move(trials[best]);
+  b.why = "lowest measured ray cost weighed by memory (the smallest within 2 %) among trial builds (cost per sampled ray / memory: " +
+          figures + ")";
+  return b;
+}
+
 }  // namespace
+
+double weighedCost(double cost, size_t bytes, size_t leastBytes) {
+  const double ratio = double(std::max(bytes, kUnweighedBytes)) / double(std::max(leastBytes, kUnweighedBytes));
+  return cost * (1.0 + 0.1 * std::log2(std::max(1.0, ratio)));
+}
+
+std::unique_ptr<BuildBudget> trialBudget(const BuildBudget& budget) {
+  if (budget.limit() == 0) return std::make_unique<BuildBudget>(0);
+  const size_t left = budget.limit() > budget.used() ? budget.limit() - budget.used() : 0;
+  return std::make_unique<BuildBudget>(std::max<size_t>(left, 1));  // 0 would mean unlimited
+}
+
+void chargeKept(const BuildBudget& trial, BuildBudget& budget) {
+  const size_t kept = trial.used(), peak = std::max(trial.peak(), kept);
+  budget.charge(peak, "an auto object");
+  budget.release(peak - kept);
+}
 
 BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBudget& budget,
                         const StructureFactory& registry, const StructureFactory& children) {
+  BuiltObject b;
   if (options.autoLeafKind) {
-    BuiltObject b = buildKind(scene, options, *options.autoLeafKind, budget, registry, children);
+    b = buildKind(scene, options, *options.autoLeafKind, budget, registry, children);
     b.why = "forced by the leaf-kind option";
-    return b;
+  } else if (scene.maxSegments() == 0 && !frozenServesAllTimes(scene)) {
+    b = buildKind(scene, options, AccelKind::BvhInterp, budget, registry, children);
+    b.why = "static, with partial time ranges or instances: linear bounds";
+  } else if (scene.maxSegments() == 0) {
+    b = chooseAmong({AccelKind::Frozen, AccelKind::BvhInterp}, scene, options, budget, registry, children);
+    b.why = "static: " + b.why;
+  } else {
+    b = chooseAmong(std::vector<AccelKind>(std::begin(kMovingCandidates), std::end(kMovingCandidates)), scene,
+                    options, budget, registry, children);
   }
-  if (scene.maxSegments() == 0) {
-    const bool frozen = frozenServesAllTimes(scene);
-    BuiltObject b = buildKind(scene, options, frozen ? AccelKind::Frozen : AccelKind::BvhInterp, budget, registry, children);
-    b.why = frozen ? "static: a BVH with one box per node serves every time"
-                   : "static, with partial time ranges or instances: linear bounds";
-    return b;
-  }
-  std::vector<BuiltObject> trials;
-  size_t leastBytes = ~size_t(0);
-  for (AccelKind k : kMovingCandidates) {
-    trials.push_back(buildKind(scene, options, k, budget, registry, children));
-    leastBytes = std::min(leastBytes, trials.back().bytes);
-  }
-  size_t best = 0;
-  std::string figures;
-  for (size_t i = 0; i < trials.size(); ++i) {
-    const double c = weighedCost(trials[i].sahCost, trials[i].bytes, leastBytes);
-    if (c < weighedCost(trials[best].sahCost, trials[best].bytes, leastBytes)) best = i;
-    figures += std::string(i ? ", " : "") + std::string(toString(trials[i].kind)) + " " +
-               number(trials[i].sahCost) + " / " + megabytes(trials[i].bytes);
-  }
-  BuiltObject b = std::move(trials[best]);
-  b.why = "lowest SAH cost weighed by memory among trial builds (SAH / memory: " + figures + ")";
+  chargeKept(*b.budget, budget);
   return b;
 }
 

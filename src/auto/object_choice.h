@@ -1,29 +1,49 @@
-// The per-object choice of structure (docs/auto.md, "Cost model"): a static
-// object gets a static BVH; a moving one a trial build of each candidate
-// kind, the lowest SAH cost weighed against memory winning.
+// The per-object choice of structure (docs/auto.md, "Cost model"): trial
+// builds of the candidate kinds, each traced on a fixed sample of rays with
+// the counting traversal; the lowest measured cost weighed against memory
+// wins.
 #pragma once
 
 #include <memory>
 #include <string>
 
+#include "auto/ray_cost.h"
 #include "scene/scene_context.h"
 
 namespace mbrt::detail {
 
 struct BuiltObject {
+  std::unique_ptr<BuildBudget> budget;  // what the object's build charged (its context charges it)
   std::unique_ptr<SceneContext> context;
   std::unique_ptr<Structure> structure;
   AccelKind kind = AccelKind::BvhInterp;
   std::string why;  // the reason for the choice, with the trial figures
   size_t bytes = 0;
   double sahCost = 0;
+  double rayCost = 0;  // measured per sampled ray, in node visits (ray_cost.h)
 };
 
 // Builds `scene`'s structure of the chosen kind (options.autoLeafKind when
 // set) with `registry` (the kind registry); the structures of its
-// instanced scenes are made by `children`.
+// instanced scenes are made by `children`. Each trial is charged to a
+// budget of its own, limited to what `budget` has left; only the kept one
+// is charged to `budget` (and the peak of its build to its peak), so a
+// trial that does not fit is skipped while another does.
 BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBudget& budget,
                         const StructureFactory& registry, const StructureFactory& children);
+
+// Memory weighs in as a factor on the measured cost: twice the memory of
+// the smallest candidate must buy a 10 % lower cost. Memory up to
+// kUnweighedBytes counts as that much: so small a structure stays in the
+// caches whatever its kind, and only the traversal work tells.
+constexpr size_t kUnweighedBytes = size_t(4) << 20;
+double weighedCost(double cost, size_t bytes, size_t leastBytes);
+
+// A budget for a trial build: limited to what `budget` has left.
+std::unique_ptr<BuildBudget> trialBudget(const BuildBudget& budget);
+// Charges what the kept trial's budget holds to `budget`, and its peak as
+// a peak (the trials' budgets charge nothing until one is kept).
+void chargeKept(const BuildBudget& kept, BuildBudget& budget);
 
 // A structure owned elsewhere, traced through this one: instanced scenes
 // whose structures the enclosing context already built.

@@ -7,6 +7,21 @@
 
 namespace {
 
+// The leaf kind of `auto`: a name in the C struct (NULL: none), a kind in C++.
+void copyLeafKind(const std::optional<mbrt::AccelKind>& from, const char*& to) {
+  to = nullptr;
+  if (!from) return;
+  for (const std::string& name : mbrt::capi::kindNames())
+    if (mbrt::parseAccelKind(name) == from) to = name.c_str();
+}
+
+void copyLeafKind(const char* from, std::optional<mbrt::AccelKind>& to) {
+  to.reset();
+  if (!from) return;
+  to = mbrt::parseAccelKind(from);
+  if (!to) mbrt::capi::fail(MBRT_ERROR_INVALID_ARGUMENT, std::string("unknown autoLeafKind \"") + from + "\"");
+}
+
 // The build options the C struct mirrors (the fields share their names), in
 // one list for both directions.
 template <class From, class To>
@@ -18,6 +33,8 @@ void copyBuildOptions(const From& from, To& to) {
   to.frozenTime = from.frozenTime;
   to.memoryBudget = from.memoryBudget;
   to.maxInstanceDepth = from.maxInstanceDepth;
+  to.autoFitTolerance = from.autoFitTolerance;
+  copyLeafKind(from.autoLeafKind, to.autoLeafKind);
 }
 
 }  // namespace

@@ -30,6 +30,7 @@ class BuildBudget {
   void release(size_t bytes) { used_.fetch_sub(bytes); }
   size_t peak() const { return peak_.load(); }
   size_t used() const { return used_.load(); }
+  size_t limit() const { return limit_; }  // 0: unlimited
 
  private:
   size_t limit_;

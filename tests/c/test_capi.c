@@ -868,6 +868,108 @@ static void testMemoryBudget(void) {
   mbrtReleaseDevice(device);
 }
 
+/* A mesh of kAutoTriangles random triangles moving by (2, 1, 0) per step over
+ * 3 steps (exact in float: a rigid motion `auto` extracts), one vertex of
+ * step 2 moved by `wobble` more (with a tolerance below wobble / diagonal
+ * the mesh deforms and is not extracted). */
+enum { kAutoTriangles = 40 };
+static MBRTScene makeRigidScene(MBRTDevice device, float wobble) {
+  static float verts[3][9 * kAutoTriangles];
+  static uint32_t indices[3 * kAutoTriangles];
+  MBRTScene scene = mbrtNewScene(device);
+  MBRTVertexBuffer steps[3];
+  int i, k;
+  for (i = 0; i < 3 * kAutoTriangles; ++i) {
+    float p[3] = {between(-2, 2), between(-2, 2), between(-2, 2)};
+    for (k = 0; k < 3; ++k) {
+      verts[k][3 * i] = p[0] + 2.0f * (float)k;
+      verts[k][3 * i + 1] = p[1] + 1.0f * (float)k;
+      verts[k][3 * i + 2] = p[2];
+    }
+    indices[i] = (uint32_t)i;
+  }
+  verts[2][0] += wobble;
+  for (k = 0; k < 3; ++k) steps[k].data = verts[k], steps[k].stride = 12, steps[k].count = 3 * kAutoTriangles;
+  CHECK(mbrtNewTriangleMesh(scene, indices, kAutoTriangles, steps, 3, 0.0f, 1.0f) == 0);
+  return scene;
+}
+
+/* Hits of `accel` that differ from brute's on random rays. */
+static size_t disagreements(MBRTScene scene, MBRTAccel accel) {
+  enum { kRays = 4000 };
+  static MBRTRay rays[kRays];
+  MBRTAccel brute = mbrtNewAccel(scene, "brute", NULL);
+  size_t i, wrong = 0, hits = 0;
+  randomRays(rays, kRays, -1.0f);
+  for (i = 0; i < kRays; ++i) {
+    MBRTHit ref, hit;
+    int found = mbrtIntersect1(accel, &rays[i], &hit);
+    mbrtIntersect1(brute, &rays[i], &ref);
+    hits += (size_t)found;
+    wrong += !sameHit(&ref, &hit, 1e-5f) || mbrtOccluded1(accel, &rays[i]) != found;
+  }
+  CHECK(hits > kRays / 50); /* the comparison means something */
+  mbrtReleaseAccel(brute);
+  return wrong;
+}
+
+/* The options of `auto`: defaults, the leaf kind and the tolerance take
+ * effect (seen in the statistics), bad values are refused. */
+static void testAutoOptions(void) {
+  MBRTDevice device = mbrtNewDevice();
+  MBRTScene rigid = makeRigidScene(device, 0.0f), wobbly = makeRigidScene(device, 1e-2f);
+  MBRTBuildOptions options;
+  MBRTAccelStats byCost, byBrute, strict, loose;
+  MBRTAccel accel;
+  mbrtDefaultBuildOptions(&options);
+  CHECK(options.autoLeafKind == NULL && options.autoFitTolerance == 1e-5f);
+  /* The rigid mesh becomes an instance of a static tree: forcing brute for
+   * it leaves no tree below the top level: fewer nodes, less memory. */
+  accel = mbrtNewAccel(rigid, "auto", &options);
+  CHECK(accel != NULL && mbrtGetAccelStats(accel, &byCost) == 1);
+  CHECK(disagreements(rigid, accel) == 0);
+  mbrtReleaseAccel(accel);
+  options.autoLeafKind = "brute";
+  accel = mbrtNewAccel(rigid, "auto", &options);
+  CHECK(accel != NULL && mbrtGetAccelStats(accel, &byBrute) == 1);
+  CHECK(disagreements(rigid, accel) == 0);
+  mbrtReleaseAccel(accel);
+  printf("auto leaf kind by cost: %zu nodes, %zu bytes; brute: %zu nodes, %zu bytes\n",
+         byCost.innerNodes + byCost.leafNodes, byCost.bytes, byBrute.innerNodes + byBrute.leafNodes, byBrute.bytes);
+  CHECK(byBrute.innerNodes + byBrute.leafNodes < byCost.innerNodes + byCost.leafNodes);
+  CHECK(byBrute.bytes < byCost.bytes);
+  /* The wobbly mesh: extracted (an instance reference on top) only when the
+   * tolerance admits the wobble (with the leaf kind forced, so that `auto`
+   * keeps its decomposition rather than the cheaper flat tree of so small
+   * a scene). */
+  options.autoLeafKind = "bvh-interp";
+  options.autoFitTolerance = 0.0f;
+  accel = mbrtNewAccel(wobbly, "auto", &options);
+  CHECK(accel != NULL && mbrtGetAccelStats(accel, &strict) == 1);
+  CHECK(disagreements(wobbly, accel) == 0);
+  mbrtReleaseAccel(accel);
+  options.autoFitTolerance = 0.5f;
+  accel = mbrtNewAccel(wobbly, "auto", &options);
+  CHECK(accel != NULL && mbrtGetAccelStats(accel, &loose) == 1);
+  mbrtReleaseAccel(accel);
+  printf("auto tolerance 0: %zu references; 0.5: %zu references\n", strict.references, loose.references);
+  CHECK(loose.references != strict.references);
+  /* Bad values. */
+  options.autoFitTolerance = -1.0f;
+  CHECK(mbrtNewAccel(rigid, "auto", &options) == NULL);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "tolerance");
+  options.autoFitTolerance = 1e-5f;
+  options.autoLeafKind = "no-such-kind";
+  CHECK(mbrtNewAccel(rigid, "auto", &options) == NULL);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "no-such-kind");
+  options.autoLeafKind = "auto";
+  CHECK(mbrtNewAccel(rigid, "auto", &options) == NULL);
+  CHECK_ERROR(device, MBRT_ERROR_INVALID_ARGUMENT, "cannot be auto");
+  mbrtReleaseScene(rigid);
+  mbrtReleaseScene(wobbly);
+  mbrtReleaseDevice(device);
+}
+
 typedef struct Case {
   const char* name;
   void (*run)(void);
@@ -883,6 +985,7 @@ static const Case kCases[] = {
     {"batched", testBatched},         {"soa", testSoA},
     {"threads", testThreads},
     {"stats", testStats},             {"memory_budget", testMemoryBudget},
+    {"auto_options", testAutoOptions},
 };
 
 int main(int argc, char** argv) {

@@ -1,0 +1,64 @@
+#include "auto/ray_cost.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mbrt::detail {
+namespace {
+
+// xorshift64*: a fixed, portable sequence.
+struct SampleRng {
+  uint64_t state = 0x9E3779B97F4A7C15ull;
+  float next() {
+    state ^= state >> 12;
+    state ^= state << 25;
+    state ^= state >> 27;
+    return float((state * 2685821657736338717ull) >> 40) * (1.0f / 16777216.0f);
+  }
+};
+
+}  // namespace
+
+std::vector<RayQuery> sampleRays(const SceneContext& context) {
+  std::vector<RayQuery> rays;
+  const Box3f box = sceneBounds(context.scene());
+  if (!(box.lower.x <= box.upper.x && box.lower.y <= box.upper.y && box.lower.z <= box.upper.z)) return rays;
+  const Vec3f centre = (box.lower + box.upper) * 0.5f, extent = box.upper - box.lower;
+  const float radius = std::max(0.5f * length(extent), 1e-6f) * 1.5f;
+  SampleRng rng;
+  rays.reserve(kSampleRays);
+  while (rays.size() < kSampleRays) {
+    // A direction uniform on the sphere, the origin on it, the target inside the box.
+    const float z = 2.0f * rng.next() - 1.0f, phi = 6.2831853f * rng.next();
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    const Vec3f org = centre + Vec3f{r * std::cos(phi), r * std::sin(phi), z} * radius;
+    const Vec3f target{box.lower.x + extent.x * rng.next(), box.lower.y + extent.y * rng.next(),
+                       box.lower.z + extent.z * rng.next()};
+    const Vec3f dir = target - org;
+    const float time = rng.next();
+    if (!(length(dir) > 0.0f)) continue;
+    RayQuery q;
+    q.setup(org, dir, 0.0f, kInf, time, ~0u);
+    rays.push_back(q);
+  }
+  return rays;
+}
+
+RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, const std::atomic<uint64_t>* entries) {
+  RayCost cost;
+  if (rays.empty()) return cost;
+  TraversalCounters counters;
+  const uint64_t before = entries ? entries->load() : 0;
+  for (const RayQuery& r : rays) {
+    RayQuery q = r;
+    Hit hit;
+    s.intersectCounted(q, hit, counters);
+  }
+  const double n = double(rays.size());
+  cost.nodes = double(counters.nodesVisited) / n;
+  cost.primitives = double(counters.primitiveTests) / n;
+  cost.entries = entries ? double(entries->load() - before) / n : 0.0;
+  return cost;
+}
+
+}  // namespace mbrt::detail
