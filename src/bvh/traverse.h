@@ -61,9 +61,13 @@ template <int W, int N>
 inline void slabDistances(const WideNode<N, true>& node, int a, int base, int nearK, Pack<W> A, Pack<W> B0,
                           Pack<W> B1, Pack<W>& tn, Pack<W>& tf) {
   using P = Pack<W>;
-  const int farK = 1 - nearK;
-  tn = fmadd(P::loadBytes(&node.q[a][2 + nearK][base]), B1, fmadd(P::loadBytes(&node.q[a][nearK][base]), B0, A));
-  tf = fmadd(P::loadBytes(&node.q[a][2 + farK][base]), B1, fmadd(P::loadBytes(&node.q[a][farK][base]), B0, A));
+  // The entry plane's levels at t = 0 and t = 1 are 2 * N bytes apart, and
+  // so are the exit plane's: one offset per axis, the rest displacements.
+  const uint8_t* levels = &node.q[a][0][base];
+  const uint8_t* nearLevels = levels + nearK * N;
+  const uint8_t* farLevels = levels + (N - nearK * N);
+  tn = fmadd(P::loadBytes(nearLevels + 2 * N), B1, fmadd(P::loadBytes(nearLevels), B0, A));
+  tf = fmadd(P::loadBytes(farLevels + 2 * N), B1, fmadd(P::loadBytes(farLevels), B0, A));
 }
 
 // Bit i set when lane i is hit within [tnear, tfar] (and, for a
