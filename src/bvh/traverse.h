@@ -129,16 +129,6 @@ inline TraversalItem laneItem(const Node& node, int lane, float dist) {
   return {node.child[lane], node.count[lane], dist};
 }
 
-// Starts loading every cache line of the node an inner stack entry points
-// at, so that it is in cache when the entry is popped.
-template <class NodeAt>
-inline void prefetchPushed(const TraversalItem& item, NodeAt& nodeAt) {
-  if (!item.inner()) return;
-  const auto& node = nodeAt(item.child);
-  const char* bytes = reinterpret_cast<const char*>(&node);
-  for (size_t offset = 0; offset < sizeof(node); offset += 64) prefetch(bytes + offset);
-}
-
 // The front-to-back loop of every N-wide tree (the BVH kinds and `msbvh`).
 // nodeAt(i) gives node i (its lanes, as laneItem reads them); testNode(node,
 // i, dist) returns the mask of lanes the ray enters, with their entry
@@ -187,10 +177,13 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
         mask &= mask - 1;
         TraversalItem second = laneItem(node, lane, dist[lane]);
         if (mask == 0) {
-          if (first.dist < second.dist) std::swap(first, second);
-          prefetchPushed(first, nodeAt);
-          stack[sp++] = first;
-          item = second;
+          if (first.dist < second.dist) {
+            stack[sp++] = second;
+            item = first;
+          } else {
+            stack[sp++] = first;
+            item = second;
+          }
           continue;
         }
         const uint32_t base = sp;
@@ -208,7 +201,6 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
           }
           stack[j] = h;
         } while (mask != 0);
-        for (uint32_t i = base; i + 1 < sp; ++i) prefetchPushed(stack[i], nodeAt);
         item = stack[--sp];
         continue;
       }
