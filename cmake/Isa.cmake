@@ -3,18 +3,15 @@
 #                     machine has them (MBRT_AVX2), or everything the machine
 #                     has (MBRT_NATIVE); elsewhere the compiler's default
 #   MBRT_SIMD=avx2    AVX2+FMA (8-lane packs), whatever the build machine has
-#   MBRT_SIMD=avx512  AVX-512 F/VL/BW/DQ on top (8-lane packs that compare
-#                     into mask registers, 32 vector registers); opt-in only:
-#                     the binary needs a CPU with AVX-512
 #   MBRT_SIMD=sse     x86-64 baseline: SSE2 (4-lane packs), no FMA
 #   MBRT_SIMD=scalar  the portable scalar packs, no instruction-set flags;
 #                     defines MBRT_SIMD_SCALAR, the one macro isa.h reads
 # No FMA contraction: the watertight triangle test needs its edge functions
 # rounded exactly as written (explicit fma intrinsics are still used).
-set(MBRT_SIMD "auto" CACHE STRING "SIMD packs: auto, avx2, avx512, sse or scalar")
-set_property(CACHE MBRT_SIMD PROPERTY STRINGS auto avx2 avx512 sse scalar)
-if(NOT MBRT_SIMD MATCHES "^(auto|avx2|avx512|sse|scalar)$")
-  message(FATAL_ERROR "MBRT_SIMD=${MBRT_SIMD}: expected auto, avx2, avx512, sse or scalar")
+set(MBRT_SIMD "auto" CACHE STRING "SIMD packs: auto, avx2, sse or scalar")
+set_property(CACHE MBRT_SIMD PROPERTY STRINGS auto avx2 sse scalar)
+if(NOT MBRT_SIMD MATCHES "^(auto|avx2|sse|scalar)$")
+  message(FATAL_ERROR "MBRT_SIMD=${MBRT_SIMD}: expected auto, avx2, sse or scalar")
 endif()
 
 set(MBRT_FP_FLAGS "")
@@ -27,7 +24,7 @@ set(MBRT_X86_64 FALSE)
 if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
   set(MBRT_X86_64 TRUE)
 endif()
-if(MBRT_SIMD MATCHES "avx2|avx512|sse" AND NOT MBRT_X86_64)
+if(MBRT_SIMD MATCHES "avx2|sse" AND NOT MBRT_X86_64)
   message(FATAL_ERROR "MBRT_SIMD=${MBRT_SIMD} needs an x86-64 target")
 endif()
 
@@ -37,10 +34,6 @@ if(MBRT_SIMD STREQUAL "scalar")
 elseif(MBRT_SIMD STREQUAL "avx2")
   if(MBRT_GNU_LIKE)
     set(MBRT_ISA_FLAGS -mavx2 -mfma)
-  endif()
-elseif(MBRT_SIMD STREQUAL "avx512")
-  if(MBRT_GNU_LIKE)
-    set(MBRT_ISA_FLAGS -mavx2 -mfma -mavx512f -mavx512vl -mavx512bw -mavx512dq)
   endif()
 elseif(MBRT_SIMD STREQUAL "auto" AND MBRT_GNU_LIKE AND MBRT_X86_64)
   if(MBRT_NATIVE)

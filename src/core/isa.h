@@ -5,8 +5,6 @@
 // cmake/Isa.cmake sets the compiler's target flags from MBRT_SIMD and, for
 // MBRT_SIMD=scalar, defines MBRT_SIMD_SCALAR. Otherwise the widest level the
 // compiler targets is used:
-//   3  AVX-512 F/VL/BW/DQ with FMA (MBRT_SIMD=avx512, or -march=native on
-//      such a CPU): the 8-lane packs compare into mask registers
 //   2  AVX2 with FMA: 8-lane packs (and the 4-lane SSE ones)
 //   1  SSE2 (every x86-64): 4-lane packs
 //   0  portable scalar packs (loops over plain floats, any W)
@@ -16,9 +14,6 @@
 
 #if defined(MBRT_SIMD_SCALAR)
 #define MBRT_SIMD_LEVEL 0
-#elif defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512BW__) && defined(__AVX512DQ__) && \
-    defined(__FMA__)
-#define MBRT_SIMD_LEVEL 3
 #elif defined(__AVX2__) && defined(__FMA__)
 #define MBRT_SIMD_LEVEL 2
 #elif defined(__SSE2__) || defined(_M_X64)

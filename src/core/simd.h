@@ -4,8 +4,7 @@
 // (scene/primitive_bounds.cpp) and the motion node's distance terms are
 // written once over Pack<W>. The ISA is picked in isa.h; this file holds
 // the portable pack (any W, plain floats) and the SSE (4) and AVX2 (8)
-// specialisations (AVX-512 comparisons into mask registers at level 3),
-// which compute bit for bit what the portable pack does.
+// specialisations, which compute bit for bit what the portable pack does.
 //
 // Semantics every pack follows (those of the x86 instructions):
 // - vmin(a, b) is a < b ? a : b and vmax(a, b) is a > b ? a : b, so the
@@ -219,15 +218,10 @@ struct Pack<8> {
   }
   friend Pack lessLanes(Pack a, Pack b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
   friend Pack equalLanes(Pack a, Pack b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)}; }
-#if MBRT_SIMD_LEVEL >= 3
-  friend uint32_t lessEqualMask(Pack a, Pack b) { return uint32_t(_mm256_cmp_ps_mask(a.v, b.v, _CMP_LE_OQ)); }
-  friend uint32_t lessMask(Pack a, Pack b) { return uint32_t(_mm256_cmp_ps_mask(a.v, b.v, _CMP_LT_OQ)); }
-#else
   friend uint32_t lessEqualMask(Pack a, Pack b) {
     return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)));
   }
   friend uint32_t lessMask(Pack a, Pack b) { return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ))); }
-#endif
 };
 #endif
 
@@ -236,10 +230,7 @@ struct Pack<8> {
 template <int N>
 inline uint32_t bytesDifferMask(const uint8_t* p, uint8_t value) {
   static_assert(N <= 8);
-#if MBRT_SIMD_LEVEL >= 3
-  const __m128i bytes = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
-  return uint32_t(_mm_cmpneq_epi8_mask(bytes, _mm_set1_epi8(char(value)))) & ((1u << N) - 1u);
-#elif MBRT_SIMD_LEVEL >= 1
+#if MBRT_SIMD_LEVEL >= 1
   const __m128i bytes = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p));
   return ~uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(bytes, _mm_set1_epi8(char(value))))) & ((1u << N) - 1u);
 #else
