@@ -6,6 +6,7 @@
 #pragma once
 
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "core/robust_slab.h"
@@ -60,9 +61,13 @@ template <int W, int N>
 inline void slabDistances(const WideNode<N, true>& node, int a, int base, int nearK, Pack<W> A, Pack<W> B0,
                           Pack<W> B1, Pack<W>& tn, Pack<W>& tf) {
   using P = Pack<W>;
-  const int farK = 1 - nearK;
-  tn = fmadd(P::loadBytes(&node.q[a][2 + nearK][base]), B1, fmadd(P::loadBytes(&node.q[a][nearK][base]), B0, A));
-  tf = fmadd(P::loadBytes(&node.q[a][2 + farK][base]), B1, fmadd(P::loadBytes(&node.q[a][farK][base]), B0, A));
+  // The entry plane's levels at t = 0 and t = 1 are 2 * N bytes apart, and
+  // so are the exit plane's: one offset per axis, the rest displacements.
+  const uint8_t* levels = &node.q[a][0][base];
+  const uint8_t* nearLevels = levels + nearK * N;
+  const uint8_t* farLevels = levels + (N - nearK * N);
+  tn = fmadd(P::loadBytes(nearLevels + 2 * N), B1, fmadd(P::loadBytes(nearLevels), B0, A));
+  tf = fmadd(P::loadBytes(farLevels + 2 * N), B1, fmadd(P::loadBytes(farLevels), B0, A));
 }
 
 // Bit i set when lane i is hit within [tnear, tfar] (and, for a
@@ -137,8 +142,8 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
   TraversalItem local[kLocalStack];
   std::vector<TraversalItem> big;
   TraversalItem* stack = local;
-  if (stackSize > kLocalStack) {
-    big.resize(stackSize);
+  if (stackSize + 1 > kLocalStack) {  // + 1: a node's lanes are sorted on the stack
+    big.resize(stackSize + 1);
     stack = big.data();
   }
   alignas(32) float dist[N];
@@ -163,22 +168,40 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
           item = laneItem(node, lane, dist[lane]);
           continue;
         }
-        TraversalItem hits[N];
-        int n = 0;
-        hits[n++] = laneItem(node, lane, dist[lane]);
+        // Two or more lanes: the nearest is visited next, the others are
+        // pushed farthest first. Two lanes (the common case) take one
+        // compare; more are insertion-sorted in place on the stack, ties
+        // keeping lane order, as a stable descending sort would.
+        TraversalItem first = laneItem(node, lane, dist[lane]);
+        lane = __builtin_ctz(mask);
+        mask &= mask - 1;
+        TraversalItem second = laneItem(node, lane, dist[lane]);
+        if (mask == 0) {
+          if (first.dist < second.dist) {
+            stack[sp++] = second;
+            item = first;
+          } else {
+            stack[sp++] = first;
+            item = second;
+          }
+          continue;
+        }
+        const uint32_t base = sp;
+        stack[sp++] = first;
+        stack[sp++] = second;
+        if (first.dist < second.dist) std::swap(stack[base], stack[base + 1]);
         do {
           lane = __builtin_ctz(mask);
           mask &= mask - 1;
           const TraversalItem h = laneItem(node, lane, dist[lane]);
-          int j = n++;
-          while (j > 0 && hits[j - 1].dist < h.dist) {  // sort by descending distance
-            hits[j] = hits[j - 1];
+          uint32_t j = sp++;
+          while (j > base && stack[j - 1].dist < h.dist) {  // sort by descending distance
+            stack[j] = stack[j - 1];
             --j;
           }
-          hits[j] = h;
+          stack[j] = h;
         } while (mask != 0);
-        for (int i = 0; i + 1 < n; ++i) stack[sp++] = hits[i];
-        item = hits[n - 1];
+        item = stack[--sp];
         continue;
       }
       if constexpr (Count) counters->primitiveTests += item.leafSize();
