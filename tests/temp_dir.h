@@ -13,6 +13,15 @@
 
 namespace mbrt::test {
 
+// A folder for the whole test process, named after `prefix` and the process
+// id; emptied first of what an earlier process of the same id left behind
+// (ids repeat across runs: a stale symlink or FIFO would break a test).
+inline std::filesystem::path freshProcessDir(const std::string& prefix) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()));
+  std::filesystem::remove_all(path);
+  return path;
+}
+
 class TempDir {
  public:
   TempDir() {

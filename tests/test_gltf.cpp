@@ -16,6 +16,7 @@
 #include "error_of.h"
 #include "mbrt/io/gltf.h"
 #include "mbrt/io/loaders.h"
+#include "temp_dir.h"
 
 namespace mbrt {
 namespace {
@@ -59,7 +60,7 @@ class GltfWriter {
   int n_ = 0;
 };
 
-const fs::path kDir = fs::temp_directory_path() / ("mbrt_test_gltf_" + std::to_string(::getpid()));
+const fs::path kDir = mbrt::test::freshProcessDir("mbrt_test_gltf_");
 
 // Node 0: a triangle skinned to joints 1 and 2; joint 2 (child of 1, rest
 // at x = 1) moves up by 2 over [0,1] (LINEAR).

@@ -11,13 +11,14 @@
 #include "error_of.h"
 #include "mbrt/io/mesh_files.h"
 #include "mbrt/io/loaders.h"
+#include "temp_dir.h"
 
 namespace mbrt {
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kDir = fs::temp_directory_path() / ("mbrt_test_seq_" + std::to_string(::getpid()));
+const fs::path kDir = mbrt::test::freshProcessDir("mbrt_test_seq_");
 
 std::string put(const std::string& name, const std::string& text) {
   fs::create_directories((kDir / name).parent_path());

@@ -21,6 +21,7 @@
 #include "oracle.h"
 #include "reference_check.h"
 #include "test_util.h"
+#include "temp_dir.h"
 
 using namespace mbrt;
 namespace fs = std::filesystem;
@@ -498,7 +499,7 @@ TEST(BadInput, BadTimeRangesAreRefused) {
 
 namespace {
 
-const fs::path kDir = fs::temp_directory_path() / ("mbrt_test_robust_" + std::to_string(::getpid()));
+const fs::path kDir = mbrt::test::freshProcessDir("mbrt_test_robust_");
 
 std::string writeFile(const std::string& name, const std::string& bytes) {
   fs::create_directories(kDir);
