@@ -6,7 +6,7 @@ BVHs with linear bounds, Embree as a peer) behind one class, ``Accel``::
     import mbrt, numpy as np
     scene = mbrt.Scene()
     scene.add_triangle_mesh(indices, steps)   # (M, 3) uint32, (S, N, 3) float32
-    accel = mbrt.Accel(scene, kind="stbvh")    # any kind of mbrt.kinds()
+    accel = mbrt.Accel(scene)                  # kind="auto"; or any kind of mbrt.kinds()
     hits = accel.intersect(rays)               # rays: (N, 9) float32, as a ray file
     hits.t, hits.geom_id, hits.prim_id, hits.u, hits.v, hits.ng
 

@@ -67,9 +67,10 @@ class Hits:
 class Accel:
     """An acceleration structure over a Scene (which it keeps alive)."""
 
-    def __init__(self, scene: Scene, kind: str = "stbvh", *, branching: int = 8, max_leaf_size: int = 8,
+    def __init__(self, scene: Scene, kind: str = "auto", *, branching: int = 8, max_leaf_size: int = 8,
                  sah_bins: int = 32, traversal_cost: float = 1.0, frozen_time: float = 0.5,
-                 memory_budget: int = 0, max_instance_depth: int = 8, embree_mode: str = "robust") -> None: ...
+                 memory_budget: int = 0, max_instance_depth: int = 8, embree_mode: str = "robust",
+                 auto_fit_tolerance: float = 1e-5, auto_leaf_kind: Optional[str] = None) -> None: ...
     def intersect(self, rays: Optional[ArrayLike] = None, *, org: Optional[ArrayLike] = None,
                   dir: Optional[ArrayLike] = None, tnear: Union[None, Scalar, ArrayLike] = None,
                   tfar: Union[None, Scalar, ArrayLike] = None, time: Union[None, Scalar, ArrayLike] = None,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 
 #include "bindings.h"
 #include "result_memory.h"
@@ -209,16 +210,23 @@ py::array_t<bool> occluded(const PyAccel& self, const py::object& rays, const py
   return out;
 }
 
-BuildOptions buildOptions(const std::string& kind, int branching, int maxLeafSize, int sahBins, float traversalCost,
-                          float frozenTime, size_t memoryBudget, int maxInstanceDepth, const std::string& embreeMode) {
-  BuildOptions o;
+AccelKind kindNamed(const std::string& kind, const char* what) {
   const auto parsed = parseAccelKind(kind);
   if (!parsed) {
     std::string list;
     for (AccelKind k : availableAccelKinds()) list += (list.empty() ? "" : ", ") + std::string(toString(k));
-    fail("unknown accel kind '" + kind + "' (available: " + list + ")");
+    fail("unknown " + std::string(what) + " '" + kind + "' (available: " + list + ")");
   }
-  o.kind = *parsed;
+  return *parsed;
+}
+
+BuildOptions buildOptions(const std::string& kind, int branching, int maxLeafSize, int sahBins, float traversalCost,
+                          float frozenTime, size_t memoryBudget, int maxInstanceDepth, const std::string& embreeMode,
+                          float autoFitTolerance, const std::optional<std::string>& autoLeafKind) {
+  BuildOptions o;
+  o.kind = kindNamed(kind, "accel kind");
+  o.autoFitTolerance = autoFitTolerance;
+  if (autoLeafKind) o.autoLeafKind = kindNamed(*autoLeafKind, "auto_leaf_kind");
   o.branching = branching;
   o.maxLeafSize = maxLeafSize;
   o.sahBins = sahBins;
@@ -297,22 +305,29 @@ reads the scene only; adding geometry or setting masks afterwards makes
 tracing raise mbrt.Error until rebuild().)doc")
       .def(py::init([](std::shared_ptr<PyScene> scene, const std::string& kind, int branching, int maxLeafSize,
                        int sahBins, float traversalCost, float frozenTime, size_t memoryBudget,
-                       int maxInstanceDepth, const std::string& embreeMode) {
+                       int maxInstanceDepth, const std::string& embreeMode, float autoFitTolerance,
+                       const std::optional<std::string>& autoLeafKind) {
              if (!scene) fail("Accel needs an mbrt.Scene");
              auto a = std::make_shared<PyAccel>();
              a->scene = std::move(scene);
              const BuildOptions o = buildOptions(kind, branching, maxLeafSize, sahBins, traversalCost, frozenTime,
-                                                 memoryBudget, maxInstanceDepth, embreeMode);
+                                                 memoryBudget, maxInstanceDepth, embreeMode, autoFitTolerance,
+                                                 autoLeafKind);
              py::gil_scoped_release nogil;
              std::shared_lock lock(sceneLock());
              a->accel = Accel::build(a->scene->scene(), o);
              a->builtVersion = deepVersion(a->scene->scene());
              return a;
            }),
-           "scene"_a, "kind"_a = "stbvh", py::kw_only(), "branching"_a = 8, "max_leaf_size"_a = 8,
+           "scene"_a, "kind"_a = "auto", py::kw_only(), "branching"_a = 8, "max_leaf_size"_a = 8,
            "sah_bins"_a = 32, "traversal_cost"_a = 1.0f, "frozen_time"_a = 0.5f, "memory_budget"_a = 0,
-           "max_instance_depth"_a = 8, "embree_mode"_a = "robust",
-           "Builds the structure (GIL released). Raises mbrt.Error for a bad scene or options.")
+           "max_instance_depth"_a = 8, "embree_mode"_a = "robust", "auto_fit_tolerance"_a = 1e-5f,
+           "auto_leaf_kind"_a = py::none(),
+           "Builds the structure (GIL released); the default kind is \"auto\" (docs/auto.md), as on the command\n"
+           "line. auto_fit_tolerance and auto_leaf_kind apply to \"auto\" only: a part becomes an instance when\n"
+           "its affine keys reproduce every vertex within that fraction of its diagonal, and auto_leaf_kind\n"
+           "forces the kind of every object (None: chosen per object by cost). Raises mbrt.Error for a bad\n"
+           "scene or options.")
       .def("intersect", &intersect, "rays"_a = py::none(), py::kw_only(), "org"_a = py::none(),
            "dir"_a = py::none(), "tnear"_a = py::none(), "tfar"_a = py::none(), "time"_a = py::none(),
            "mask"_a = py::none(), "out"_a = py::none(), intersectDoc.c_str())
