@@ -1,12 +1,12 @@
 // The BVH family (bvh-interp, bvh-segments, frozen, stbvh) against the brute-force
 // oracle, plus invariants: conservative bounds, determinism, budgets, refit.
 #include <gtest/gtest.h>
-#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <random>
 #include <set>
 
+#include "build_in_arena.h"
 #include "bvh/build/build_wide.h"
 #include "bvh/kinds/bvh_structure.h"
 #include "bvh/inspect.h"
@@ -249,22 +249,9 @@ TEST(Bvh, DeterministicWhateverTheThreadCount) {
       BuildOptions o;
       o.kind = kind;
       o.branching = width;
-      std::vector<uint8_t> bytes[2];
-      double sah[2];
-      for (int t = 0; t < 2; ++t) {
-        tbb::task_arena arena(t + 1);
-        arena.execute([&] {
-          detail::BuildBudget budget;
-          detail::SceneContext ctx(scene, o, budget);
-          auto s = detail::makeStructure(ctx);
-          bytes[t] = detail::inspect(*s).bytes();
-          AccelStats st;
-          s->fillStats(st);
-          sah[t] = st.sahCost;
-        });
-      }
-      EXPECT_EQ(bytes[0], bytes[1]) << toString(kind) << " N=" << width;
-      EXPECT_EQ(sah[0], sah[1]) << toString(kind) << " N=" << width;
+      const test::BuiltInArena one = test::buildInArena(scene, o, 1), two = test::buildInArena(scene, o, 2);
+      EXPECT_EQ(one.bytes, two.bytes) << toString(kind) << " N=" << width;
+      EXPECT_EQ(one.stats.sahCost, two.stats.sahCost) << toString(kind) << " N=" << width;
     }
 }
 

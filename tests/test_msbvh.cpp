@@ -8,8 +8,8 @@
 #include <map>
 #include <random>
 
-#include <tbb/task_arena.h>
 
+#include "build_in_arena.h"
 #include "bvh/inspect.h"
 #include "accel/structure_factory.h"
 #include "scene/scene_context.h"
@@ -361,25 +361,12 @@ TEST(Msbvh, DeterministicWhateverTheThreadCount) {
   std::mt19937 rng(29);
   Scene scene;
   test::addRandomMovingTriangles(scene, rng, uint32_t(test::scaled(34000, 5000)), 3, 0.15f, 0.05f);
-  std::vector<uint8_t> bytes[2];
-  size_t refs[2];
-  for (int t = 0; t < 2; ++t) {
-    tbb::task_arena arena(t + 1);
-    arena.execute([&] {
-      BuildOptions o;
-      o.kind = AccelKind::Msbvh;
-      detail::BuildBudget budget;
-      detail::SceneContext ctx(scene, o, budget);
-      auto s = detail::makeStructure(ctx);
-      bytes[t] = detail::inspect(*s).bytes();
-      AccelStats st;
-      s->fillStats(st);
-      refs[t] = st.references;
-    });
-  }
-  EXPECT_GT(refs[0], scene.numPrimitives());  // spatial splits were made
-  EXPECT_EQ(refs[0], refs[1]);
-  EXPECT_EQ(bytes[0], bytes[1]);
+  BuildOptions o;
+  o.kind = AccelKind::Msbvh;
+  const test::BuiltInArena one = test::buildInArena(scene, o, 1), two = test::buildInArena(scene, o, 2);
+  EXPECT_GT(one.stats.references, scene.numPrimitives());  // spatial splits were made
+  EXPECT_EQ(one.stats.references, two.stats.references);
+  EXPECT_EQ(one.bytes, two.bytes);
 }
 
 // §5: an animation over frames; each frame's shutter starts where the last
