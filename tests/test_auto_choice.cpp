@@ -1,9 +1,10 @@
 // `auto`'s choices: the whole scene as one object where the decomposition
 // would cost more per ray (and agreement with brute then), the decomposition
-// where instances pay, and the memory budget charged for the kept trial
-// build only.
+// where instances pay, the cost model's cache factor and sample, and the
+// memory budget charged for the kept trial build only.
 #include <gtest/gtest.h>
 
+#include "auto/ray_cost.h"
 #include "oracle.h"
 #include "test_util.h"
 
@@ -36,12 +37,80 @@ TEST(AutoChoice, FewObjectsThatGainNothingAreBuiltAsOneObject) {
   }
 }
 
-// Many rigid objects: the decomposition is kept without a flat trial.
-TEST(AutoChoice, ManyRigidObjectsStayInstances) {
-  const ProceduralScene ps = makeProceduralScene("crowd", 0.05, 3);
+// Many rigid objects in a large scene: the decomposition is kept without a
+// flat trial (crowd at 0.2: 90,000 triangles, above the flat trial's
+// 65,536).
+TEST(AutoChoice, ManyRigidObjectsInALargeSceneStayInstances) {
+  const ProceduralScene ps = makeProceduralScene("crowd", 0.2, 3);
+  ASSERT_GT(ps.scene->numPrimitives(), 65536u);
   const AccelStats s = build(*ps.scene, AccelKind::Auto)->stats();
   EXPECT_NE(s.objects.find(": rigid,"), std::string::npos) << s.objects;
-  EXPECT_EQ(s.objects.find("the whole scene as one object"), std::string::npos) << s.objects;
+  EXPECT_EQ(s.objects.find("whole scene as one object"), std::string::npos) << s.objects;
+}
+
+// A small scene of many rigid objects (crowd at 0.02: 80-triangle objects)
+// gets the flat trial whatever its number of objects, and there one tree
+// over the scene is cheaper than 101 instances (one stbvh: 0.90x the
+// decomposition's thread time per ray, docs/performance.md); it agrees with brute.
+TEST(AutoChoice, SmallScenesOfManyObjectsGetTheFlatTrial) {
+  const ProceduralScene ps = makeProceduralScene("crowd", 0.02, 3);
+  ASSERT_LE(ps.scene->numPrimitives(), 65536u);
+  ASSERT_GT(ps.scene->numGeometries(), 4u);
+  auto tested = build(*ps.scene, AccelKind::Auto);
+  const AccelStats s = tested->stats();
+  EXPECT_NE(s.objects.find("the whole scene as one object, cheaper than its decomposition"), std::string::npos)
+      << s.objects;
+  auto oracle = build(*ps.scene, AccelKind::Brute);
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 7);
+  const auto rep = test::compareWithOracle(*oracle, *tested, rays);
+  EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
+  EXPECT_EQ(rep.anyWrong, 0u);
+  EXPECT_GT(rep.hits, rep.rays / 10);
+}
+
+// The cache factor: no weight up to 1 MB, a quarter more per doubling
+// above; it multiplies the counted work, entries included.
+TEST(AutoCost, CacheFactorWeighsBytesAboveOneMegabyte) {
+  const detail::RayCostWeights w;
+  EXPECT_DOUBLE_EQ(w.cacheFactor(0), 1.0);
+  EXPECT_DOUBLE_EQ(w.cacheFactor(size_t(1) << 20), 1.0);
+  EXPECT_DOUBLE_EQ(w.cacheFactor(size_t(2) << 20), 1.25);
+  EXPECT_DOUBLE_EQ(w.cacheFactor(size_t(8) << 20), 1.75);
+  detail::RayCost c;
+  c.nodes = 4;
+  c.primitives = 2;
+  c.entries = 1;
+  EXPECT_DOUBLE_EQ(c.work(w, AccelKind::Stbvh), 4 + 2 + 2.5);
+  EXPECT_DOUBLE_EQ(c.work(w, AccelKind::Frozen), 4 + 2 * 0.7 + 2.5);
+  EXPECT_DOUBLE_EQ(c.total(w, AccelKind::Stbvh, size_t(4) << 20), (4 + 2 + 2.5) * 1.5);
+}
+
+// The sample's second half: diffuse bounces from the first half's hits,
+// one per sampled ray, cycling through the hits; off the surface on the
+// side the ray came from, in that hemisphere, at the hitting ray's time.
+TEST(AutoCost, BouncesLeaveTheHitSurfaceOnTheIncomingSide) {
+  std::vector<detail::RayQuery> rays(3);
+  rays[0].setup({0, 0, 5}, {0, 0, -2}, 0, kInf, 0.25f, ~0u);  // hits z = 1 at t = 2
+  rays[1].setup({0, 5, 0}, {0, -1, 0}, 0, kInf, 0.5f, ~0u);   // misses
+  rays[2].setup({0, 0, -5}, {0, 0, 1}, 0, kInf, 0.75f, ~0u);  // hits z = -1 from below, t = 4
+  std::vector<Hit> hits(3);
+  hits[0].t = 2;
+  hits[0].Ng = {0, 0, -1};  // facing away from the ray: turned towards it
+  hits[0].geomID = 0;
+  hits[2].t = 4;
+  hits[2].Ng = {0, 0, -3};
+  hits[2].geomID = 0;
+  const std::vector<detail::RayQuery> b = detail::bounceRays(rays, hits);
+  ASSERT_EQ(b.size(), rays.size());
+  for (size_t j = 0; j < b.size(); ++j) {
+    const bool first = j % 2 == 0;  // cycles through the two hits
+    EXPECT_EQ(b[j].time, first ? 0.25f : 0.75f);
+    EXPECT_NEAR(b[j].org.z, first ? 1.0f : -1.0f, 1e-2f);
+    EXPECT_GT(first ? b[j].org.z - 1.0f : -1.0f - b[j].org.z, 0.0f) << "off the surface, on the ray's side";
+    EXPECT_GT(first ? b[j].dir.z : -b[j].dir.z, 0.0f) << "into the incoming side's hemisphere";
+    EXPECT_NEAR(length(b[j].dir), 1.0f, 1e-5f);
+  }
+  EXPECT_TRUE(detail::bounceRays(rays, std::vector<Hit>(3)).empty()) << "no hits, no bounces";
 }
 
 // A deforming scene gets trial builds of four kinds. Only the kept one is

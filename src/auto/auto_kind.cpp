@@ -20,16 +20,18 @@ std::string number(double v) {
 }
 
 // The flat alternative (the whole scene as one object, no top level) is
-// also built and measured when the top level would hold few objects and
-// either their keys turn or scale little (there linear bounds over the
-// original mesh are nearly as tight as the instance's static tree, and the
-// instance's ray transform and second traversal set-up cost more than they
-// save: translate, sponza) or the scene is small (demo; its trial builds
-// are cheap). Large scenes with large turns (rotate) and many objects
-// (crowd) are what instances are for: there the flat trees are many times
-// larger, which the counted cost does not see (cache misses), and their
-// trial builds would take longer than all the rest. A forced leaf kind
-// asks for the decomposition: no flat trial then.
+// also built and measured when the scene is small (up to
+// kFlatTrialPrimitives: its trial builds are cheap, whatever the number of
+// objects: demo, and crowd at small sizes, where an instance holds a few
+// dozen triangles and its ray transform costs more than its tree saves),
+// or when the top level would hold few objects whose keys turn or scale
+// little (there linear bounds over the original mesh are nearly as tight
+// as the instance's static tree, and the instance's ray transform and
+// second traversal set-up cost more than they save: translate, sponza).
+// Large scenes with large turns (rotate) or many objects (crowd) are what
+// instances are for: there the flat trees are many times larger and their
+// trial builds would take longer than all the rest, so they are not tried.
+// A forced leaf kind asks for the decomposition: no flat trial then.
 constexpr size_t kFlatTrialObjects = 4;
 constexpr float kFlatTrialLinearChange = 0.1f;  // largest element change of a key's 3x3 part (~6 degrees)
 constexpr size_t kFlatTrialPrimitives = 65536;
@@ -139,32 +141,34 @@ AutoStructure::AutoStructure(const SceneContext& ctx) : ctx_(ctx), leafOptions_(
 }
 
 bool AutoStructure::worthFlatTrial() const {
-  if (leafOptions_.autoLeafKind || topScene_->numGeometries() > kFlatTrialObjects) return false;
+  if (leafOptions_.autoLeafKind) return false;
   if (ctx_.totalPrimitives() <= kFlatTrialPrimitives) return true;
+  if (topScene_->numGeometries() > kFlatTrialObjects) return false;
   for (const RigidPart& part : plan_.rigid)
     if (linearChange(part.fit.keys) > kFlatTrialLinearChange) return false;
   return true;
 }
 
 // Measures the decomposition and the whole scene built as one object on the
-// same sampled rays (ray_cost.h) and keeps the cheaper, memory weighed in
-// as for the objects' kinds.
+// same sampled rays (ray_cost.h) and keeps the cheaper, each weighed by the
+// cache factor of its bytes (all its objects and the top level).
 void AutoStructure::keepCheaperOfFlat() {
   const std::vector<RayQuery> rays = sampleRays(ctx_);
   counting_ = true;
-  const double split = measureRayCost(*top_, rays, &entries_).total(RayCostWeights{}, AccelKind::Stbvh);
+  const RayCost counted = measureRayCost(*top_, rays, &entries_);
   counting_ = false;
   AccelStats splitStats;
   top_->fillStats(splitStats);
   topContext_->addChildStats(splitStats);
+  const double split = counted.total(RayCostWeights{}, AccelKind::Stbvh, splitStats.bytes);
   // buildObject charges the kept kind to flatBudget; flat.budget holds it.
   const std::unique_ptr<BuildBudget> flatBudget = trialBudget(ctx_.budget());
   BuiltObject flat = buildObject(ctx_.scene(), leafOptions_, *flatBudget, ctx_.structureFactory(), childFactory());
-  const size_t least = std::min(flat.bytes, splitStats.bytes);
-  const std::string figures = "cost per sampled ray / memory: decomposed " + number(split) + " / " +
+  const std::string figures = "cost per sampled ray / memory: decomposed " + number(split) + " (" +
+                              number(counted.entries) + " instance entries per ray) / " +
                               number(double(splitStats.bytes) / 1e6) + " MB, whole scene as one object " +
                               number(flat.rayCost) + " / " + number(double(flat.bytes) / 1e6) + " MB";
-  if (!(weighedCost(flat.rayCost, flat.bytes, least) < weighedCost(split, splitStats.bytes, least))) {
+  if (!(flat.rayCost < split)) {
     lines_.push_back("kept the decomposition (" + figures + ")");
     return;
   }

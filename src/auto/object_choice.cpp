@@ -73,19 +73,12 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   if (trials.empty()) throw Error("memory budget exceeded by every candidate kind of an auto object");
   const std::vector<RayQuery> rays = sampleRays(*trials.front().context);
   const RayCostWeights weights;
-  size_t leastBytes = ~size_t(0);
-  for (BuiltObject& t : trials) {
-    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind);
-    leastBytes = std::min(leastBytes, t.bytes);
-  }
+  for (BuiltObject& t : trials) t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.bytes);
   size_t best = 0;
   for (size_t i = 0; i < trials.size(); ++i)
-    if (weighedCost(trials[i].rayCost, trials[i].bytes, leastBytes) <
-        weighedCost(trials[best].rayCost, trials[best].bytes, leastBytes))
-      best = i;
-  // Within kNearCost of the best one's measured cost, the smallest
-  // candidate: a cost that close is within the sample's scatter, the memory
-  // is not.
+    if (trials[i].rayCost < trials[best].rayCost) best = i;
+  // Within kNearCost of the best one's cost, the smallest candidate: a cost
+  // that close is within the sample's scatter, the memory is not.
   const double bestCost = trials[best].rayCost;
   for (size_t i = 0; i < trials.size(); ++i)
     if (trials[i].rayCost <= bestCost * (1.0 + kNearCost) && trials[i].bytes < trials[best].bytes) best = i;
@@ -94,17 +87,12 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
                number(trials[i].rayCost) + " / " + megabytes(trials[i].bytes);
   }
   BuiltObject b = std::move(trials[best]);
-  b.why = "lowest measured ray cost weighed by memory (the smallest within 2 %) among trial builds (cost per sampled ray / memory: " +
+  b.why = "lowest measured ray cost, its cache factor included (the smallest within 2 %), among trial builds (cost per sampled ray / memory: " +
           figures + ")";
   return b;
 }
 
 }  // namespace
-
-double weighedCost(double cost, size_t bytes, size_t leastBytes) {
-  const double ratio = double(std::max(bytes, kUnweighedBytes)) / double(std::max(leastBytes, kUnweighedBytes));
-  return cost * (1.0 + 0.1 * std::log2(std::max(1.0, ratio)));
-}
 
 std::unique_ptr<BuildBudget> trialBudget(const BuildBudget& budget) {
   if (budget.limit() == 0) return std::make_unique<BuildBudget>(0);

@@ -1,7 +1,7 @@
 // The per-object choice of structure (docs/auto.md, "Cost model"): trial
 // builds of the candidate kinds, each traced on a fixed sample of rays with
-// the counting traversal; the lowest measured cost weighed against memory
-// wins.
+// the counting traversal; the lowest measured cost (a structure's bytes
+// weigh in through the cache factor of ray_cost.h) wins.
 #pragma once
 
 #include <memory>
@@ -31,13 +31,6 @@ struct BuiltObject {
 // trial that does not fit is skipped while another does.
 BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBudget& budget,
                         const StructureFactory& registry, const StructureFactory& children);
-
-// Memory weighs in as a factor on the measured cost: twice the memory of
-// the smallest candidate must buy a 10 % lower cost. Memory up to
-// kUnweighedBytes counts as that much: so small a structure stays in the
-// caches whatever its kind, and only the traversal work tells.
-constexpr size_t kUnweighedBytes = size_t(4) << 20;
-double weighedCost(double cost, size_t bytes, size_t leastBytes);
 
 // A budget for a trial build: limited to what `budget` has left.
 std::unique_ptr<BuildBudget> trialBudget(const BuildBudget& budget);

@@ -26,8 +26,8 @@ std::vector<RayQuery> sampleRays(const SceneContext& context) {
   const Vec3f centre = (box.lower + box.upper) * 0.5f, extent = box.upper - box.lower;
   const float radius = std::max(0.5f * length(extent), 1e-6f) * 1.5f;
   SampleRng rng;
-  rays.reserve(kSampleRays);
-  while (rays.size() < kSampleRays) {
+  rays.reserve(kSampleRays / 2);
+  while (rays.size() < kSampleRays / 2) {
     // A direction uniform on the sphere, the origin on it, the target inside the box.
     const float z = 2.0f * rng.next() - 1.0f, phi = 6.2831853f * rng.next();
     const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
@@ -44,17 +44,56 @@ std::vector<RayQuery> sampleRays(const SceneContext& context) {
   return rays;
 }
 
+std::vector<RayQuery> bounceRays(const std::vector<RayQuery>& rays, const std::vector<Hit>& hits) {
+  struct SurfacePoint {
+    Vec3f p, n;
+    float time, eps;
+  };
+  std::vector<SurfacePoint> points;
+  for (size_t i = 0; i < rays.size() && i < hits.size(); ++i) {
+    const RayQuery& r = rays[i];
+    const Hit& h = hits[i];
+    if (!h.valid() || !(length(h.Ng) > 0.0f)) continue;
+    Vec3f n = normalize(h.Ng);
+    if (dot(n, r.dir) > 0.0f) n = -n;
+    points.push_back({r.org + r.dir * h.t, n, r.time, 1e-4f * length(r.dir)});
+  }
+  std::vector<RayQuery> out;
+  if (points.empty()) return out;
+  SampleRng rng;
+  rng.state ^= 0xB5AD4ECEDA1CE2A9ull;
+  out.reserve(rays.size());
+  for (size_t j = 0; j < rays.size(); ++j) {
+    const SurfacePoint& h = points[j % points.size()];
+    const float u1 = rng.next(), u2 = rng.next();
+    const float r = std::sqrt(u1), phi = 6.2831853f * u2;
+    const Vec3f a = std::fabs(h.n.x) > 0.9f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0);
+    const Vec3f t1 = normalize(cross(a, h.n)), t2 = cross(h.n, t1);
+    const Vec3f dir = t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi)) + h.n * std::sqrt(std::max(0.0f, 1.0f - u1));
+    RayQuery q;
+    q.setup(h.p + h.n * h.eps, dir, h.eps, kInf, h.time, ~0u);
+    out.push_back(q);
+  }
+  return out;
+}
+
 RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, const std::atomic<uint64_t>* entries) {
   RayCost cost;
   if (rays.empty()) return cost;
   TraversalCounters counters;
   const uint64_t before = entries ? entries->load() : 0;
-  for (const RayQuery& r : rays) {
-    RayQuery q = r;
+  std::vector<Hit> hits(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    RayQuery q = rays[i];
+    s.intersectCounted(q, hits[i], counters);
+  }
+  const std::vector<RayQuery> bounces = bounceRays(rays, hits);
+  for (const RayQuery& b : bounces) {
+    RayQuery q = b;
     Hit hit;
     s.intersectCounted(q, hit, counters);
   }
-  const double n = double(rays.size());
+  const double n = double(rays.size() + bounces.size());
   cost.nodes = double(counters.nodesVisited) / n;
   cost.primitives = double(counters.primitiveTests) / n;
   cost.entries = entries ? double(entries->load() - before) / n : 0.0;

@@ -6,7 +6,9 @@
 // set-up each), references split into several leaves, overlapping objects.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -15,26 +17,42 @@
 
 namespace mbrt::detail {
 
-// Weights per counted event, in node visits, from callgrind instruction
-// counts of the kernel (docs/performance.md): ~220 instructions per 8-wide
-// node visit, ~300 per triangle test (~210 in `frozen`, whose leaves hold
-// their triangles), ~550 per entry into an instanced structure
-// (toInstanceSpace and the child traversal's set-up).
-// `msbvh` does the same counted work in ~0.85 of the instructions of the
-// other BVH kinds (callgrind, same rays and near-equal counts: hairball
-// 47.0 M against `bvh-segments`' 55.0 M, CesiumMan 10.4 M against 12.6 M,
-// translate 11.5 M against `bvh-interp`'s 13.7 M).
+// The cost per ray, in units of one node visit:
+//
+//   (nodes + primitive x primitive tests + entry x instance entries)
+//     x (1 + cachePerDoubling x log2(bytes / cacheBytes))   (bytes >= cacheBytes)
+//
+// Weights fitted to the thread CPU time per ray of every kind on the
+// bench's secondary rays of the suite and the real scenes
+// (docs/performance.md, "The cost model fitted to time"): a node visit and
+// a triangle test cost about the same (~35 ns on this machine), whatever
+// the kind; what differs between kinds at equal counts is the memory they
+// read: each doubling of a structure's bytes above ~1 MB (the second-level
+// cache of a core) costs a quarter more per event (cache misses). `frozen`'s
+// leaves hold their triangles (no index or vertex fetch): ~0.7 of a
+// triangle test (callgrind, ~210 against ~300 instructions). An entry into
+// an instanced structure (the ray's transform and the child traversal's
+// set-up, ~550 instructions) weighs 2.5 node visits.
 struct RayCostWeights {
   double node = 1.0;
-  double primitive = 1.4;
-  double frozenPrimitive = 1.0;
+  double primitive = 1.0;
+  double frozenPrimitive = 0.7;
   double entry = 2.5;
-  double msbvhFactor = 0.85;
+  double cacheBytes = double(size_t(1) << 20);
+  double cachePerDoubling = 0.25;
+  // The factor on the work of a structure of `bytes`.
+  double cacheFactor(size_t bytes) const {
+    return 1.0 + cachePerDoubling * std::log2(std::max(1.0, double(bytes) / cacheBytes));
+  }
 };
 
-// kSampleRays rays from a sphere around the scene's bounds (sceneBounds) towards
-// points inside them, at times in [0, 1], from a fixed seed (the choice a
-// build makes does not change from run to run).
+// The sample is what a renderer's secondary rays look like (the bench's
+// secondary set): kSampleRays / 2 rays from a sphere around the scene's
+// bounds (sceneBounds) towards points inside them, at times in [0, 1]
+// (sampleRays), and as many diffuse bounces from their hits, cycling
+// through the hits (measureRayCost adds them: every correct structure finds
+// the same hits), all from a fixed seed (the choice a build makes does not
+// change from run to run).
 constexpr uint32_t kSampleRays = 2048;
 std::vector<RayQuery> sampleRays(const SceneContext& context);
 
@@ -62,15 +80,27 @@ class EntryCounting final : public Structure {
 
 struct RayCost {
   double nodes = 0, primitives = 0, entries = 0;  // per ray
-  double total(const RayCostWeights& w, AccelKind kind) const {
-    const double work = w.node * nodes + (kind == AccelKind::Frozen ? w.frozenPrimitive : w.primitive) * primitives +
-                        w.entry * entries;
-    return kind == AccelKind::Msbvh ? work * w.msbvhFactor : work;
+  // The counted work alone, in node visits.
+  double work(const RayCostWeights& w, AccelKind kind) const {
+    return w.node * nodes + (kind == AccelKind::Frozen ? w.frozenPrimitive : w.primitive) * primitives +
+           w.entry * entries;
+  }
+  // The work weighed by the cache factor of a structure of `bytes`.
+  double total(const RayCostWeights& w, AccelKind kind, size_t bytes) const {
+    return work(w, kind) * w.cacheFactor(bytes);
   }
 };
 
-// Traces `rays` through s with counting; `entries` (may be null) is read
-// before and after, for structures whose children are EntryCounting.
+// Diffuse bounces from the hits of `rays` (hits[i] of rays[i]; misses
+// skipped): as many as `rays`, cycling through the hit points, each
+// cosine-distributed about the normal turned towards the incoming ray, from
+// 1e-4 of the incoming ray's length off the surface, at the time of the ray
+// that hit; none when nothing was hit.
+std::vector<RayQuery> bounceRays(const std::vector<RayQuery>& rays, const std::vector<Hit>& hits);
+
+// Traces `rays` through s with counting, then their bounceRays; the cost
+// is per traced ray. `entries` (may be null) is read before and after, for
+// structures whose children are EntryCounting.
 RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays,
                        const std::atomic<uint64_t>* entries = nullptr);
 
