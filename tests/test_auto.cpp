@@ -174,6 +174,32 @@ TEST(AutoOracle, AgreesWithBruteOnTheMixedScene) {
   }
 }
 
+// A scene of one rigid mesh: its one instance is tested without a tree
+// over it (one_instance.h); hits, any-hits and the mesh's mask agree with
+// brute.
+TEST(AutoOracle, OneInstanceIsTestedWithoutATopLevel) {
+  const ProceduralScene ps = makeProceduralScene("rotate", 0.02, 5);
+  ps.scene->setMask(0, 1u);
+  BuildOptions bo;
+  bo.kind = AccelKind::Brute;
+  auto oracle = Accel::build(*ps.scene, bo);
+  // The leaf kind forced: the decomposition kept (no flat trial).
+  auto tested = buildAuto(*ps.scene, 1e-5f, 8, AccelKind::BvhInterp);
+  const AccelStats s = tested->stats();
+  EXPECT_NE(s.objects.find(": rigid,"), std::string::npos) << s.objects;
+  EXPECT_NE(s.objects.find("top level: none, its one instance tested directly"), std::string::npos) << s.objects;
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 13);
+  const auto rep = test::compareWithOracle(*oracle, *tested, rays);
+  EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
+  EXPECT_EQ(rep.anyWrong, 0u);
+  EXPECT_GT(rep.hits, rep.rays / 10);
+  std::vector<Ray> masked = rays;
+  for (Ray& r : masked) r.mask = 2u;
+  const auto maskedRep = test::compareWithOracle(*oracle, *tested, masked);
+  EXPECT_EQ(maskedRep.hits, 0u);
+  EXPECT_EQ(maskedRep.wrong + maskedRep.anyWrong, 0u) << maskedRep.firstFailure;
+}
+
 // Where nothing is extracted, the chosen kind is built over the scene
 // itself (not the oracle that stands in below user instances).
 TEST(AutoChoice, DeformingScenesGetARealStructure) {

@@ -8,6 +8,7 @@
 
 #include "auto/auto_plan.h"
 #include "auto/object_choice.h"
+#include "auto/one_instance.h"
 #include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
@@ -132,10 +133,15 @@ AutoStructure::AutoStructure(const SceneContext& ctx) : ctx_(ctx), leafOptions_(
   BuildOptions topOptions = ctx.options();
   topOptions.kind = AccelKind::Stbvh;
   topContext_ = std::make_unique<SceneContext>(*topScene_, topOptions, *decomposedBudget_, childFactory());
-  top_ = ctx.structureFactory()(*topContext_);
+  if (topScene_->numGeometries() == 1) {
+    top_ = std::make_unique<OneInstance>(*topContext_);
+    lines_.push_back("top level: none, its one instance tested directly");
+  } else {
+    top_ = ctx.structureFactory()(*topContext_);
+    lines_.push_back("top level: stbvh over " + std::to_string(topScene_->numGeometries()) + " instances");
+  }
   trace_ = top_.get();
   remap_ = true;
-  lines_.push_back("top level: stbvh over " + std::to_string(topScene_->numGeometries()) + " instances");
   if (worthFlatTrial()) keepCheaperOfFlat();
   if (top_) chargeKept(*decomposedBudget_, ctx.budget());
 }
