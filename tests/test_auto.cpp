@@ -117,6 +117,29 @@ std::unique_ptr<Accel> buildAuto(const Scene& scene, float tolerance = 1e-5f, in
   return Accel::build(scene, o);
 }
 
+// Matrix keys interpolate element-wise, so each key's box is the child's
+// bounds under that key alone: a translating instance's boxes move with it
+// (the union of neighbouring keys' boxes would hold it still).
+TEST(AutoBounds, MatrixKeyBoxesFollowTheirKeys) {
+  auto child = std::make_shared<Scene>();
+  child->addTriangleMesh({{0, 1, 2}, {1, 3, 2}},
+                         std::vector<std::vector<Vec3f>>{{{0, 0, 0}, {1, 0, 0}, {0, 1, 1}, {1, 1, 1}}});
+  Scene top;
+  top.addInstance(child, {Affine3f(), Affine3f::translate({10, 0, 0}), Affine3f::translate({10, 10, 0})});
+  BuildOptions o;
+  o.kind = AccelKind::Brute;
+  detail::BuildBudget budget(0);
+  detail::SceneContext ctx(top, o, budget, detail::makeStructure);
+  const Vec3f shift[3] = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}};
+  for (uint32_t k = 0; k < 3; ++k) {
+    const Box3f box = ctx.keyBox({0, 0}, k);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(box.lower[a], shift[k][a], 1e-4f) << "key " << k << " axis " << a;  // widened by ulps
+      EXPECT_NEAR(box.upper[a], shift[k][a] + 1.0f, 1e-4f) << "key " << k << " axis " << a;
+    }
+  }
+}
+
 TEST(AutoOracle, AgreesWithBruteOnRigidDeformingFilteredAndInstancedGeometry) {
   const ProceduralScene ps = test::autoTestScene(0.0f, 10);
   std::atomic<int> badIds{0};

@@ -129,11 +129,14 @@ void SceneContext::computeInstanceKeyBoxes() {
         out[j + 1].extend(seg);
       }
     } else {
+      // Matrix keys interpolate element-wise: at a time f into segment j a
+      // point x of the child is at lerp(A_j x, A_j+1 x, f), inside the lerp
+      // of the boxes of the child's bounds under A_j and under A_j+1. Each
+      // key's box covers the child's bounds over both its segments.
       for (uint32_t j = 0; j + 1 < keys.size(); ++j) {
         const Box3f c = child.boundsOver({g.stepTime(j), g.stepTime(j + 1)});
-        const Box3f seg = merge(transformBox(keys[j], c), transformBox(keys[j + 1], c));
-        out[j].extend(seg);
-        out[j + 1].extend(seg);
+        out[j].extend(transformBox(keys[j], c));
+        out[j + 1].extend(transformBox(keys[j + 1], c));
       }
     }
     Box3f all;
