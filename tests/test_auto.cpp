@@ -9,6 +9,7 @@
 
 #include "accel/structure_factory.h"
 #include "auto/auto_plan.h"
+#include "auto/part_bounds.h"
 #include "auto_scene.h"
 #include "mixed_scene.h"
 #include "oracle.h"
@@ -115,6 +116,59 @@ std::unique_ptr<Accel> buildAuto(const Scene& scene, float tolerance = 1e-5f, in
   o.branching = branching;
   o.autoLeafKind = leafKind;
   return Accel::build(scene, o);
+}
+
+// The top level's boxes of a rigid part (auto/part_bounds.h): at sampled
+// times the lerp of consecutive boxes holds the instance's vertices and the
+// mesh's own; they are never looser than the corner bounds of the rest pose
+// under the keys, and tighter where a part turns.
+TEST(AutoBounds, PartKeyBoxesHoldTheInstanceAndBeatCornerBounds) {
+  const ProceduralScene ps = test::autoTestScene();
+  const detail::AutoPlan plan = detail::planDecomposition(*ps.scene, 1e-5);
+  ASSERT_FALSE(plan.rigid.empty());
+  double tightest = 1.0;
+  for (const detail::RigidPart& part : plan.rigid) {
+    const Geometry& g = ps.scene->geometry(part.geomID);
+    const std::vector<Box3f> boxes = detail::partKeyBoxes(g, part);
+    ASSERT_EQ(boxes.size(), g.numSteps());
+    std::vector<Triangle> tris;
+    if (part.prims.empty()) tris.assign(g.triangles().begin(), g.triangles().end());
+    for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
+    auto child = std::make_shared<Scene>();
+    child->addTriangleMesh(tris, std::vector<VertexBuffer>{g.vertices(0)});
+    Scene top;
+    top.addInstance(child, part.fit.keys, g.timeRange());
+    BuildOptions o;
+    o.kind = AccelKind::Brute;
+    detail::BuildBudget budget(0);
+    detail::SceneContext ctx(top, o, budget, detail::makeStructure);
+    const Geometry& inst = top.geometry(0);
+    for (int i = 0; i <= 200; ++i) {
+      const float t = g.timeRange().lo + g.timeRange().size() * float(i) / 200.0f;
+      uint32_t s;
+      float f;
+      inst.segmentAt(t, s, f);
+      const Box3f box = lerp(boxes[s], boxes[std::min(s + 1, inst.numSteps() - 1)], f);
+      const Affine3f m = inst.transformAt(t);
+      for (const Triangle& tri : tris)
+        for (uint32_t v : {tri.v0, tri.v1, tri.v2}) {
+          ASSERT_TRUE(box.contains(m.xfmPoint(g.vertices(0)[v]))) << "geometry " << part.geomID << " time " << t;
+          ASSERT_TRUE(box.contains(g.vertexAt(t, v))) << "geometry " << part.geomID << " time " << t;
+        }
+    }
+    auto area = [](const Box3f& b) {
+      const Vec3f d = b.upper - b.lower;
+      return double(d.x) * d.y + double(d.y) * d.z + double(d.z) * d.x;
+    };
+    double ours = 0, corners = 0;
+    for (uint32_t k = 0; k < g.numSteps(); ++k) {
+      ours += area(boxes[k]);
+      corners += area(ctx.keyBox({0, 0}, k));
+    }
+    EXPECT_LE(ours, corners * (1.0 + 1e-4)) << "geometry " << part.geomID;
+    tightest = std::min(tightest, ours / corners);
+  }
+  EXPECT_LT(tightest, 0.99) << "a turning part's boxes are tighter than its corner bounds";
 }
 
 // Matrix keys interpolate element-wise, so each key's box is the child's

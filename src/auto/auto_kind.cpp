@@ -9,6 +9,7 @@
 #include "auto/auto_plan.h"
 #include "auto/object_choice.h"
 #include "auto/one_instance.h"
+#include "auto/part_bounds.h"
 #include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
@@ -111,6 +112,7 @@ class AutoStructure final : public Structure {
   std::unique_ptr<Structure> top_;
   const Structure* trace_ = nullptr;
   bool remap_ = false;
+  std::vector<std::pair<uint32_t, std::vector<Box3f>>> rigidKeyBoxes_;  // until the top context takes them
   std::vector<TopEntry> topMap_;      // per top-level geometry of topScene_
   std::vector<WorldEntry> worldMap_;  // per geometry of the world-space object
   std::vector<std::string> lines_;
@@ -133,6 +135,8 @@ AutoStructure::AutoStructure(const SceneContext& ctx) : ctx_(ctx), leafOptions_(
   BuildOptions topOptions = ctx.options();
   topOptions.kind = AccelKind::Stbvh;
   topContext_ = std::make_unique<SceneContext>(*topScene_, topOptions, *decomposedBudget_, childFactory());
+  for (auto& [id, boxes] : rigidKeyBoxes_) topContext_->setInstanceKeyBoxes(id, std::move(boxes));
+  rigidKeyBoxes_.clear();
   if (topScene_->numGeometries() == 1) {
     top_ = std::make_unique<OneInstance>(*topContext_);
     lines_.push_back("top level: none, its one instance tested directly");
@@ -228,6 +232,7 @@ void AutoStructure::addRigid(const RigidPart& part) {
   pending_[child.get()] = std::move(objects_.back().structure);
   const uint32_t id = topScene_->addInstance(child, part.fit.keys, g.timeRange());
   topScene_->setMask(id, g.mask());
+  rigidKeyBoxes_.emplace_back(id, partKeyBoxes(g, part));
   scenes_.push_back(std::move(child));
   topMap_.push_back({ObjectType::Rigid, part.geomID, part.prims.empty() ? nullptr : &part.prims});
   const size_t n = part.prims.empty() ? g.numPrimitives() : part.prims.size();

@@ -89,6 +89,13 @@ Box3f SceneContext::boundsOver(TimeRange range) const {
   return box;
 }
 
+void SceneContext::setInstanceKeyBoxes(uint32_t geomID, std::vector<Box3f> boxes) {
+  const Geometry& g = *geometries_[geomID];
+  if (g.type() != GeometryType::Instance || boxes.size() != g.numSteps())
+    throw Error("scene context: instance key boxes need an instance and one box per key");
+  instanceKeyBoxes_[geomID] = std::move(boxes);
+}
+
 void SceneContext::computeGeometryKeyBoxes() {
   geometryKeyBoxes_.resize(geometries_.size());
   for (uint32_t id = 0; id < geometries_.size(); ++id) {

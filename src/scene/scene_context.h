@@ -71,6 +71,12 @@ class SceneContext {
   // Bounds, see primitive_bounds.h.
   Box3f keyBox(PrimRef ref, uint32_t key) const { return keys(ref)(key); }
   PrimKeys keys(PrimRef ref) const;
+  // Replaces an instance's key boxes (one per key) by the caller's, before
+  // any structure is built over this context. The caller guarantees what
+  // the computed ones do: the lerp of consecutive boxes holds the instance
+  // between its keys (auto: the boxes of the mesh an instance was fitted to,
+  // auto/part_bounds.h).
+  void setInstanceKeyBoxes(uint32_t geomID, std::vector<Box3f> boxes);
   // Union of the geometries alive in [range.lo, range.hi] over that range.
   Box3f boundsOver(TimeRange range) const;
   // Bytes of the structures of instanced scenes.

@@ -1,0 +1,20 @@
+// The top level's boxes of a rigid part's instance: per key, the box of the
+// part's own vertices at that step (the mesh it was fitted to), widened by
+// the fit's residual. The instance's point of a rest vertex x at a time f
+// into a step is lerp(A_k x, A_k+1 x, f) (element-wise key interpolation,
+// part_fit.h), and A_k x is within the residual of the vertex at step k, so
+// the lerp of consecutive boxes holds the instance, as the transformed rest
+// bounds (the MSBVH paper's §3.3 corner bounds) do; but a turned box's
+// corners reach beyond the turned mesh (crowd's hero, one full turn: its
+// corner boxes have 1.75x the surface area of these).
+#pragma once
+
+#include <vector>
+
+#include "auto/auto_plan.h"
+
+namespace mbrt::detail {
+
+std::vector<Box3f> partKeyBoxes(const Geometry& g, const RigidPart& part);
+
+}  // namespace mbrt::detail
