@@ -113,6 +113,21 @@ TEST(AutoCost, BouncesLeaveTheHitSurfaceOnTheIncomingSide) {
   EXPECT_TRUE(detail::bounceRays(rays, std::vector<Hit>(3)).empty()) << "no hits, no bounces";
 }
 
+// A hit on a huge triangle (its normal's length overflows a float) still
+// gives valid bounces, and none the API would refuse.
+TEST(AutoCost, BouncesFromHugeTrianglesAreValidRays) {
+  std::vector<detail::RayQuery> rays(1);
+  rays[0].setup({0.2f, 0.2f, -1e16f}, {0, 0, 1}, 0, kInf, 0.5f, ~0u);
+  std::vector<Hit> hits(1);
+  hits[0].t = 1e16f;
+  hits[0].Ng = {0, 0, 4e34f};  // (v1 - v0) x (v2 - v0) of edges ~2e17 long
+  hits[0].geomID = 0;
+  const std::vector<detail::RayQuery> b = detail::bounceRays(rays, hits);
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_TRUE(isValidRay(Ray{b[0].org, b[0].tnear, b[0].dir, b[0].tfar, b[0].time, b[0].mask}));
+  EXPECT_LT(b[0].dir.z, 0.0f) << "back towards the ray's side";
+}
+
 // A deforming scene gets trial builds of four kinds. Only the kept one is
 // charged: a budget a quarter above the largest single trial's peak
 // suffices, though the trials' structures held together, with the largest

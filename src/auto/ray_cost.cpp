@@ -27,7 +27,8 @@ std::vector<RayQuery> sampleRays(const SceneContext& context) {
   const float radius = std::max(0.5f * length(extent), 1e-6f) * 1.5f;
   SampleRng rng;
   rays.reserve(kSampleRays / 2);
-  while (rays.size() < kSampleRays / 2) {
+  // Bounded: a scene near the largest coordinates may refuse most rays.
+  for (uint32_t tries = 0; rays.size() < kSampleRays / 2 && tries < 8 * kSampleRays; ++tries) {
     // A direction uniform on the sphere, the origin on it, the target inside the box.
     const float z = 2.0f * rng.next() - 1.0f, phi = 6.2831853f * rng.next();
     const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
@@ -37,9 +38,12 @@ std::vector<RayQuery> sampleRays(const SceneContext& context) {
     const Vec3f dir = target - org;
     const float time = rng.next();
     if (!(length(dir) > 0.0f)) continue;
-    RayQuery q;
-    q.setup(org, dir, 0.0f, kInf, time, ~0u);
-    rays.push_back(q);
+    Ray ray;
+    ray.org = org;
+    ray.dir = dir;
+    ray.time = time;
+    if (!isValidRay(ray)) continue;
+    rays.emplace_back(ray);
   }
   return rays;
 }
@@ -53,8 +57,13 @@ std::vector<RayQuery> bounceRays(const std::vector<RayQuery>& rays, const std::v
   for (size_t i = 0; i < rays.size() && i < hits.size(); ++i) {
     const RayQuery& r = rays[i];
     const Hit& h = hits[i];
-    if (!h.valid() || !(length(h.Ng) > 0.0f)) continue;
-    Vec3f n = normalize(h.Ng);
+    // The normal scaled to its largest component first: the cross product of
+    // huge edges (coordinates near kMaxCoordinate) overflows its length.
+    const Vec3f a{std::fabs(h.Ng.x), std::fabs(h.Ng.y), std::fabs(h.Ng.z)};
+    const float largest = maxComponent(a);
+    if (!h.valid() || !(largest > 0.0f) || !std::isfinite(largest)) continue;
+    Vec3f n = normalize(h.Ng * (1.0f / largest));
+    if (!(length(n) > 0.5f)) continue;
     if (dot(n, r.dir) > 0.0f) n = -n;
     points.push_back({r.org + r.dir * h.t, n, r.time, 1e-4f * length(r.dir)});
   }
@@ -70,9 +79,13 @@ std::vector<RayQuery> bounceRays(const std::vector<RayQuery>& rays, const std::v
     const Vec3f a = std::fabs(h.n.x) > 0.9f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0);
     const Vec3f t1 = normalize(cross(a, h.n)), t2 = cross(h.n, t1);
     const Vec3f dir = t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi)) + h.n * std::sqrt(std::max(0.0f, 1.0f - u1));
-    RayQuery q;
-    q.setup(h.p + h.n * h.eps, dir, h.eps, kInf, h.time, ~0u);
-    out.push_back(q);
+    Ray ray;
+    ray.org = h.p + h.n * h.eps;
+    ray.dir = dir;
+    ray.tnear = h.eps;
+    ray.time = h.time;
+    if (!isValidRay(ray)) continue;  // what the API refuses is not traced here either
+    out.emplace_back(ray);
   }
   return out;
 }
