@@ -11,6 +11,7 @@
 
 #include "core/robust_slab.h"
 #include "bvh/nodes/wide_bvh.h"
+#include "bvh/leaf_blocks.h"
 #include "bvh/leaf_intersect.h"
 
 namespace mbrt::detail {
@@ -217,11 +218,14 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
 // boxTime is the ray's time in the tree's time parameter; the leaf test uses
-// ray.time, and `stored` triangles when given (valid at ray.time). Count
-// adds nodes visited, box tests and primitive tests.
+// ray.time, and `stored` triangles when given (valid at ray.time), and a
+// static tree's leaf `blocks` when given (leaf_blocks.h). Count adds nodes
+// visited, box tests and primitive tests.
 template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
-              TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr) {
+              TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
+              const TriangleLeafBlocks* blocks = nullptr) {
+  const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(ray, boxTime);
   return wideTraverse<AnyHit, Count, N>(
@@ -231,6 +235,12 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
         return intersectNode<packWidth<N>()>(node, r, ray.tfar, dist, times);
       },
       [&](const TraversalItem& item) {
+        if constexpr (!Motion)
+          if (useBlocks && !(item.count & TraversalItem::kInline))
+            if (const TriangleLeafBlock* b = blocks->of(item.child)) {
+              if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray);
+              else return leaf_block::intersectBlocks(b, item.count, ray, *hit);
+            }
         PrimRef one;
         const PrimRef* prims = item.references(bvh.prims.data(), one);
         const uint32_t count = item.leafSize();

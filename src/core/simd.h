@@ -75,6 +75,7 @@ struct Pack {
   friend Pack operator+(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x + y; }); }
   friend Pack operator-(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x - y; }); }
   friend Pack operator*(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x * y; }); }
+  friend Pack operator/(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x / y; }); }
   friend Pack vmin(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x < y ? x : y; }); }
   friend Pack vmax(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x > y ? x : y; }); }
   friend Pack abs(Pack a) { return bits(a, a, [](uint32_t x, uint32_t) { return x & 0x7FFFFFFFu; }); }
@@ -88,6 +89,7 @@ struct Pack {
   friend Pack equalLanes(Pack a, Pack b) { return lanes(a, b, [](float x, float y) { return x == y; }); }
   friend uint32_t lessEqualMask(Pack a, Pack b) { return mask(a, b, [](float x, float y) { return x <= y; }); }
   friend uint32_t lessMask(Pack a, Pack b) { return mask(a, b, [](float x, float y) { return x < y; }); }
+  friend uint32_t equalMask(Pack a, Pack b) { return mask(a, b, [](float x, float y) { return x == y; }); }
 
  private:
   template <class F>
@@ -170,6 +172,7 @@ struct Pack<4> {
   friend Pack operator+(Pack a, Pack b) { return {_mm_add_ps(a.v, b.v)}; }
   friend Pack operator-(Pack a, Pack b) { return {_mm_sub_ps(a.v, b.v)}; }
   friend Pack operator*(Pack a, Pack b) { return {_mm_mul_ps(a.v, b.v)}; }
+  friend Pack operator/(Pack a, Pack b) { return {_mm_div_ps(a.v, b.v)}; }
   friend Pack vmin(Pack a, Pack b) { return {_mm_min_ps(a.v, b.v)}; }
   friend Pack vmax(Pack a, Pack b) { return {_mm_max_ps(a.v, b.v)}; }
   friend Pack abs(Pack a) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)}; }
@@ -180,6 +183,7 @@ struct Pack<4> {
   friend Pack equalLanes(Pack a, Pack b) { return {_mm_cmpeq_ps(a.v, b.v)}; }
   friend uint32_t lessEqualMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmple_ps(a.v, b.v))); }
   friend uint32_t lessMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmplt_ps(a.v, b.v))); }
+  friend uint32_t equalMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmpeq_ps(a.v, b.v))); }
 };
 #endif
 
@@ -208,6 +212,7 @@ struct Pack<8> {
   friend Pack operator+(Pack a, Pack b) { return {_mm256_add_ps(a.v, b.v)}; }
   friend Pack operator-(Pack a, Pack b) { return {_mm256_sub_ps(a.v, b.v)}; }
   friend Pack operator*(Pack a, Pack b) { return {_mm256_mul_ps(a.v, b.v)}; }
+  friend Pack operator/(Pack a, Pack b) { return {_mm256_div_ps(a.v, b.v)}; }
   friend Pack vmin(Pack a, Pack b) { return {_mm256_min_ps(a.v, b.v)}; }
   friend Pack vmax(Pack a, Pack b) { return {_mm256_max_ps(a.v, b.v)}; }
   friend Pack abs(Pack a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
@@ -222,6 +227,9 @@ struct Pack<8> {
     return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)));
   }
   friend uint32_t lessMask(Pack a, Pack b) { return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ))); }
+  friend uint32_t equalMask(Pack a, Pack b) {
+    return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)));
+  }
 };
 #endif
 

@@ -33,17 +33,19 @@ inline constexpr float kFilledTraversalScale = 1.5f;
 inline constexpr float kTemporalLeafPenalty = 1.4f;
 
 // With a TemporalSource the builder also makes temporal splits (stbvh).
-// `reuseTriedTemporalSplits`: BuildSettings' (tests turn it off).
+// `reuseTriedTemporalSplits`, `leafBlock`: BuildSettings' (tests turn the
+// first off; `frozen` gives the second, for its leaf blocks).
 template <int N, bool Motion>
 void buildWideBvh(const SceneContext& ctx, std::span<const PrimRef> prims, const RefMaker& maker,
                   WideBvh<N, Motion>& out, const TemporalSource* temporal = nullptr,
-                  bool reuseTriedTemporalSplits = true) {
+                  bool reuseTriedTemporalSplits = true, int leafBlock = 1) {
   BuildBudget& budget = ctx.budget();
   ScopedCharge refCharge(budget, prims.size() * (sizeof(BuildRef) + 1), "the BVH build references");
   std::vector<BuildRef> refs = makeBuildRefs(prims, maker);
   BuildSettings settings = settingsFor(ctx.options(), {0.0f, 1.0f});
   settings.temporal = temporal;
   settings.reuseTriedTemporalSplits = reuseTriedTemporalSplits;
+  settings.leafBlock = leafBlock;
   if (temporal) {  // stbvh (docs/stbvh.md)
     settings.traversalCost *= kFilledTraversalScale;
     settings.temporalLeafPenalty = kTemporalLeafPenalty;

@@ -45,7 +45,8 @@ struct Candidate {
   TemporalHalves tried;
 
   bool inner() const { return !soft && decision.kind != Decision::Leaf; }
-  bool fillable() const { return !inner() && refs.size() > 1; }
+  // A leaf that filling may split: more references than one leaf block.
+  bool fillable(int leafBlock) const { return !inner() && refs.size() > size_t(std::max(leafBlock, 1)); }
 };
 
 // The node's bounds extrapolated to t = 0 and 1 (one FMA per plane in
@@ -82,9 +83,10 @@ class Driver {
     Candidate pool[2 * (N - 1)];
     Candidate* next = pool;
     int n = 1;
-    if (node.inner() || node.fillable()) n = splitLane(lanes, n, 0, next);
+    const int block = s_.leafBlock;
+    if (node.inner() || node.fillable(block)) n = splitLane(lanes, n, 0, next);
     n = fill(lanes, n, next, [](const Candidate& c) { return c.inner(); });
-    n = fill(lanes, n, next, [](const Candidate& c) { return c.fillable(); });
+    n = fill(lanes, n, next, [block](const Candidate& c) { return c.fillable(block); });
     uint32_t child[N];
     auto buildLane = [&](int i) { child[i] = lanes[i]->inner() ? build(*lanes[i]) : storeLeaf(*lanes[i]); };
     if (totalRefs(lanes, n) > s_.parallelThreshold) {

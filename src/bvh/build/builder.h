@@ -34,6 +34,12 @@ struct BuildSettings {
   int maxLeafSize = 8;
   int numBins = 32;
   float traversalCost = 1.0f;  // C_T; C_I = 1
+  // References a leaf tests at once (leaf blocks, `frozen`'s
+  // triangle_block.h): the SAH charges a leaf per block (leafBlocks,
+  // binned_sah.h), and filling a wide node's spare lanes leaves leaves of at
+  // most this many whole (Embree's GeneralBVHBuilder: logBlockSize, and no
+  // child of minLeafSize or fewer split to fill a node). 1: per reference.
+  int leafBlock = 1;
   TimeRange range;             // the tree's time range (tree parameter)
   size_t parallelThreshold = 1024;  // subtrees larger than this run as tasks (Embree: 1024)
   int maxBinnedDepth = 48;          // deeper: median splits (bounds the depth)

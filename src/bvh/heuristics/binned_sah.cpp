@@ -139,7 +139,7 @@ std::vector<Bin<Ref>> fillBinsParallel(std::span<const Ref> refs, const ObjectSp
 // exactly this split, with the same cost and tie-breaks, after filling and
 // sweeping the bins.
 template <class Ref>
-ObjectSplit splitPair(std::span<const Ref> refs, const ObjectSplit (&axes)[3]) {
+ObjectSplit splitPair(std::span<const Ref> refs, const ObjectSplit (&axes)[3], int leafBlock) {
   using T = RefTraits<Ref>;
   const BinMap map(axes);
   int bins[2][3];
@@ -151,8 +151,8 @@ ObjectSplit splitPair(std::span<const Ref> refs, const ObjectSplit (&axes)[3]) {
     typename T::Acc lb, rb;
     lb.extend(T::bounds(refs[left]));
     rb.extend(T::bounds(refs[1 - left]));
-    const float rightCost = rb.area() * float(T::weight(refs[1 - left]));
-    const float cost = lb.area() * float(T::weight(refs[left])) + rightCost;
+    const float rightCost = rb.area() * leafBlocks(T::weight(refs[1 - left]), leafBlock);
+    const float cost = lb.area() * leafBlocks(T::weight(refs[left]), leafBlock) + rightCost;
     if (!(cost < kInf)) break;  // every axis has this cost: no split beats kInf
     ObjectSplit split = axes[axis];
     split.bin = bins[left][axis] + 1;
@@ -164,7 +164,8 @@ ObjectSplit splitPair(std::span<const Ref> refs, const ObjectSplit (&axes)[3]) {
 
 // The best split of one axis's bins, if it beats `best`.
 template <class Ref>
-void sweepAxis(const Bin<Ref>* ab, const ObjectSplit& axis, size_t total, float* rightCost, ObjectSplit& best) {
+void sweepAxis(const Bin<Ref>* ab, const ObjectSplit& axis, size_t total, int leafBlock, float* rightCost,
+               ObjectSplit& best) {
   const int numBins = axis.numBins;
   // Sweep from the right: cost of bins [i, numBins).
   typename RefTraits<Ref>::Acc acc;
@@ -176,7 +177,7 @@ void sweepAxis(const Bin<Ref>* ab, const ObjectSplit& axis, size_t total, float*
     if (ab[i].count != 0 || i + 1 == numBins) {
       acc.extend(ab[i].bounds);
       active += ab[i].active;
-      cost = acc.area() * float(active);
+      cost = acc.area() * leafBlocks(active, leafBlock);
     }
     rightCost[i] = cost;
   }
@@ -192,7 +193,7 @@ void sweepAxis(const Bin<Ref>* ab, const ObjectSplit& axis, size_t total, float*
     active += ab[i - 1].active;
     leftCount += ab[i - 1].count;
     if (leftCount == 0 || leftCount == total) continue;
-    const float c = acc.area() * float(active) + rightCost[i];
+    const float c = acc.area() * leafBlocks(active, leafBlock) + rightCost[i];
     if (c < best.cost) {
       best = axis;
       best.bin = i;
@@ -212,7 +213,7 @@ void sideBounds(const Bin<Ref>* ab, const ObjectSplit& split, typename RefTraits
 
 template <class Ref>
 ObjectSplit findSplit(std::span<const Ref> refs, const Summary<Ref>& info, int numBins,
-                      typename RefTraits<Ref>::Bounds* sides) {
+                      typename RefTraits<Ref>::Bounds* sides, int leafBlock) {
   using Bounds = typename RefTraits<Ref>::Bounds;
   numBins = std::clamp(numBins, 1, kMaxBins);
   // Binning transform per axis; axes where all keys coincide are skipped.
@@ -229,7 +230,7 @@ ObjectSplit findSplit(std::span<const Ref> refs, const Summary<Ref>& info, int n
   }
   ObjectSplit best;
   if (!any) return best;
-  if (refs.size() == 2 && !sides) return splitPair(refs, axes);
+  if (refs.size() == 2 && !sides) return splitPair(refs, axes, leafBlock);
   // One pass over the references fills the bins of all three axes.
   const size_t nb = static_cast<size_t>(numBins);
   const bool serial = refs.size() < kParallelRefs;
@@ -240,7 +241,7 @@ ObjectSplit findSplit(std::span<const Ref> refs, const Summary<Ref>& info, int n
   const Bin<Ref>* bins = serial ? small.data() : large.data();
   float rightCost[kMaxBins];
   for (int axis = 0; axis < 3; ++axis)
-    if (axes[axis].axis >= 0) sweepAxis(bins + size_t(axis) * nb, axes[axis], refs.size(), rightCost, best);
+    if (axes[axis].axis >= 0) sweepAxis(bins + size_t(axis) * nb, axes[axis], refs.size(), leafBlock, rightCost, best);
   if (sides && best.valid()) {
     Bounds both[2];
     sideBounds(bins + size_t(best.axis) * nb, best, both);
@@ -385,11 +386,11 @@ int adaptiveObjectBins(int maxBins, size_t count) {
   return std::min({maxBins, kMaxBins, int(8.0f + 0.1f * float(std::min<size_t>(count, 1 << 20)))});
 }
 
-ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins) {
-  return findSplit<BuildRef>(refs, info, numBins, nullptr);
+ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins, int leafBlock) {
+  return findSplit<BuildRef>(refs, info, numBins, nullptr, leafBlock);
 }
 ObjectSplit findObjectSplit(std::span<const SplitRef> refs, const BoxSetInfo& info, int numBins, Box3f* sides) {
-  return findSplit<SplitRef>(refs, info, numBins, sides);
+  return findSplit<SplitRef>(refs, info, numBins, sides, 1);
 }
 
 size_t partitionObject(std::span<BuildRef> refs, const ObjectSplit& split, RefSetInfo sides[2],

@@ -53,10 +53,20 @@ struct ObjectSplit {
 // from 4 + 5%: docs/stbvh.md).
 int adaptiveObjectBins(int maxBins, size_t count);
 
+// The SAH's intersection cost of `weight` references (or segments) in leaf
+// blocks of `leafBlock`: a block is tested at once, so it costs as one
+// (Embree's BVH builders charge ceil(n / 4) for Triangle4 leaves,
+// GeneralBVHBuilder's logBlockSize). leafBlock 1: one per reference.
+inline float leafBlocks(uint64_t weight, int leafBlock) {
+  return leafBlock <= 1 ? float(weight) : float((weight + uint64_t(leafBlock) - 1) / uint64_t(leafBlock));
+}
+
 // Best split over all three axes with `numBins` bins each (at most 256);
-// ties go to the lower axis, then lower bin. `sides`, when given, gets the
-// bounds of both sides of the split found.
-ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins);
+// ties go to the lower axis, then lower bin; each side costs its area times
+// leafBlocks(its weight, leafBlock). `sides`, when given, gets the bounds of
+// both sides of the split found.
+ObjectSplit findObjectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int numBins,
+                            int leafBlock = 1);
 ObjectSplit findObjectSplit(std::span<const SplitRef> refs, const BoxSetInfo& info, int numBins,
                             Box3f* sides = nullptr);
 

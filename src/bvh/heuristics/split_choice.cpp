@@ -6,7 +6,8 @@
 
 namespace mbrt::detail {
 
-// Leaf cost C_I*A*|X|_s against C_T*A + split cost (MBSAH, STBVH §3.2).
+// Leaf cost C_I*A*|X|_s against C_T*A + split cost (MBSAH, STBVH §3.2);
+// with leaf blocks, |X|_s counts blocks (leafBlocks, binned_sah.h).
 Decision SplitChooser::choose(std::span<BuildRef> refs, const RefSetInfo& info, TimeRange range, int depth,
                               const TemporalHalves& tried) {
   Decision d;
@@ -14,7 +15,7 @@ Decision SplitChooser::choose(std::span<BuildRef> refs, const RefSetInfo& info, 
   const size_t count = refs.size();
   if (count <= 1 && !s_.temporal) return d;
   const ObjectSplit split = objectSplit(refs, info, depth);
-  const float leafCost = area * float(info.active);
+  const float leafCost = area * leafBlocks(info.active, s_.leafBlock);
   float best = split.cost;  // unnormalised, kInf when invalid
   // Temporal split: tried when the object split is poor (θ), chosen when
   // it wins even with the penalty λ for the references it duplicates.
@@ -59,7 +60,7 @@ void SplitChooser::dropHalves(Decision& d) {
 
 ObjectSplit SplitChooser::objectSplit(std::span<const BuildRef> refs, const RefSetInfo& info, int depth) const {
   if (depth >= s_.maxBinnedDepth || refs.size() <= 1) return ObjectSplit();
-  return findObjectSplit(refs, info, adaptiveObjectBins(s_.numBins, refs.size()));
+  return findObjectSplit(refs, info, adaptiveObjectBins(s_.numBins, refs.size()), s_.leafBlock);
 }
 
 size_t SplitChooser::partition(std::span<BuildRef> refs, const RefSetInfo& info, const ObjectSplit& split,

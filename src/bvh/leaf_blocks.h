@@ -1,0 +1,159 @@
+// Leaf blocks of a static tree (`frozen`): each leaf whose references are
+// all stored triangles (FixedTimeTriangles: plain triangles, no filter) is
+// laid out as ceil(n / 4) blocks of four triangles with their vertices at
+// the tree's time, structure of arrays, and tested a block at a time by
+// intersectTriangleBlock (geometry/triangle_block.h). This is Embree's
+// static leaf (Triangle4: the vertices gathered into the leaf, four
+// triangles per SIMD test) under a tree whose SAH charges a leaf per block
+// (BuildSettings::leafBlock), so that the leaves fill their blocks.
+//
+// The lanes keep the leaf's reference order and each lane is checked
+// against the ray's mask as its geometry's run would be; candidates are
+// taken in lane order against the shrinking tfar, so the hits (ties
+// included) are exactly those of intersectLeaf testing the references one
+// by one. The time-range check of the runs always passes here: the tree
+// holds only geometries alive at its time, every ray is traced at that
+// time, and blocks are used only when ray.time is it.
+#pragma once
+
+#include <algorithm>
+#include <vector>
+
+#include "bvh/leaf_intersect.h"
+#include "bvh/nodes/wide_bvh.h"
+#include "geometry/triangle_block.h"
+
+namespace mbrt::detail {
+
+inline constexpr int kLeafBlockWidth = 4;
+
+// Four triangles of one leaf: 192 bytes, three cache lines.
+struct alignas(64) TriangleLeafBlock {
+  TriangleBlock<kLeafBlockWidth> tri;
+  uint32_t geomID[kLeafBlockWidth];
+  uint32_t primID[kLeafBlockWidth];
+  uint32_t mask[kLeafBlockWidth];  // each lane's geometry mask
+};
+
+struct TriangleLeafBlocks {
+  static constexpr uint32_t kNone = 0xFFFFFFFFu;
+  float time = 0.0f;
+  std::vector<uint32_t> first;  // per reference-table entry starting a blocked leaf: its first block
+  std::vector<TriangleLeafBlock> blocks;
+
+  TriangleLeafBlocks() = default;
+  // The blocks of every leaf of `bvh` (not kept in a node) whose references
+  // all have stored triangles in `stored`, at `time`.
+  template <int N>
+  TriangleLeafBlocks(const SceneContext& ctx, const WideBvh<N, false>& bvh, const FixedTimeTriangles& stored,
+                     float t)
+      : time(t) {
+    size_t count = 0;
+    forEachLeaf(bvh, stored, [&](uint32_t, uint32_t n) { count += (n + kLeafBlockWidth - 1) / kLeafBlockWidth; });
+    if (count == 0 || count >= kNone) return;
+    ctx.budget().charge(count * sizeof(TriangleLeafBlock) + bvh.prims.size() * sizeof(uint32_t),
+                        "the frozen tree's leaf blocks");
+    first.assign(bvh.prims.size(), kNone);
+    blocks.resize(count);
+    uint32_t next = 0;
+    forEachLeaf(bvh, stored, [&](uint32_t begin, uint32_t n) {
+      first[begin] = next;
+      for (uint32_t i = 0; i < n; i += kLeafBlockWidth, ++next) {
+        TriangleLeafBlock& b = blocks[next];
+        for (int lane = 0; lane < kLeafBlockWidth; ++lane) {
+          // Lanes past the leaf's end repeat its last triangle (never tested).
+          const PrimRef ref = bvh.prims[begin + std::min(i + uint32_t(lane), n - 1)];
+          const Vec3f* p = stored.of(ref.geomID) + 3 * size_t(ref.primID);
+          b.tri.set(lane, p[0], p[1], p[2]);
+          b.geomID[lane] = ref.geomID;
+          b.primID[lane] = ref.primID;
+          b.mask[lane] = ctx.geometry(ref.geomID).mask();
+        }
+      }
+    });
+  }
+
+  bool empty() const { return blocks.empty(); }
+  // The first block of the leaf at reference `begin`, or null.
+  const TriangleLeafBlock* of(uint32_t begin) const {
+    const uint32_t b = first[begin];
+    return b == kNone ? nullptr : &blocks[b];
+  }
+  size_t bytes() const { return first.size() * sizeof(uint32_t) + blocks.size() * sizeof(TriangleLeafBlock); }
+
+ private:
+  // fn(first reference, count) for each leaf in the reference table whose
+  // references all have stored triangles.
+  template <int N, class Fn>
+  static void forEachLeaf(const WideBvh<N, false>& bvh, const FixedTimeTriangles& stored, Fn&& fn) {
+    for (const auto& node : bvh.nodes)
+      for (int lane = 0; lane < N; ++lane) {
+        if (!node.isLeaf(lane) || node.count[lane] == kInlineLeaf) continue;
+        const uint32_t begin = node.child[lane], n = node.count[lane];
+        bool all = true;
+        for (uint32_t i = begin; i < begin + n; ++i) all = all && stored.of(bvh.prims[i].geomID) != nullptr;
+        if (all) fn(begin, n);
+      }
+  }
+};
+
+namespace leaf_block {
+
+// The blocks of a leaf of `count` triangles: onHit(hit) for each candidate
+// hit in reference order, as testRun would call it; stops when onHit
+// returns true.
+template <class OnHit>
+inline bool testBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray, OnHit&& onHit) {
+  constexpr int W = kLeafBlockWidth;
+  TriangleBlockResult<W> res;
+  for (uint32_t first = 0; first < count; first += W, ++blocks) {
+    const TriangleLeafBlock& b = *blocks;
+    const uint32_t lanes = std::min<uint32_t>(W, count - first);
+    uint32_t valid = 0;
+    for (int lane = 0; lane < W; ++lane) valid |= uint32_t((b.mask[lane] & ray.mask) != 0) << lane;
+    valid &= (1u << lanes) - 1u;
+    if (valid == 0) continue;
+    intersectTriangleBlock(ray, b.tri, valid, res);
+    for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
+      const int lane = __builtin_ctz(todo);
+      const PrimRef ref{b.geomID[lane], b.primID[lane]};
+      const Vec3f v0 = b.tri.vertex(0, lane), v1 = b.tri.vertex(1, lane), v2 = b.tri.vertex(2, lane);
+      if (res.scalar >> lane & 1u) {
+        if (leaf_run::testOneTriangle(ref, v0, v1, v2, ray, onHit)) return true;
+        continue;
+      }
+      TriangleHit th;
+      if (!res.accept(lane, ray, th)) continue;
+      Hit h;
+      h.t = th.t;
+      h.u = th.u;
+      h.v = th.v;
+      h.Ng = cross(v1 - v0, v2 - v0);
+      h.geomID = ref.geomID;
+      h.primID = ref.primID;
+      h.instID = kInvalidId;
+      if (onHit(h)) return true;
+    }
+  }
+  return false;
+}
+
+// Closest hit among the leaf's triangles (as intersectLeaf).
+inline bool intersectBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray, Hit& hit) {
+  bool found = false;
+  testBlocks(blocks, count, ray, [&](const Hit& h) {
+    hit = h;
+    ray.tfar = h.t;
+    found = true;
+    return false;
+  });
+  return found;
+}
+
+// Any hit among the leaf's triangles (as occludedLeaf).
+inline bool occludedBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray) {
+  return testBlocks(blocks, count, ray, [](const Hit&) { return true; });
+}
+
+}  // namespace leaf_block
+}  // namespace mbrt::detail
