@@ -10,7 +10,8 @@ namespace {
 template <int N, bool Motion>
 class Layout {
  public:
-  Layout(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out) : tree_(tree), out_(out) {}
+  Layout(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, bool inlineLeaves)
+      : tree_(tree), out_(out), inline_(inlineLeaves) {}
 
   uint32_t emit(uint32_t id, uint32_t depth) {
     const uint32_t index = uint32_t(out_.nodes.size());
@@ -23,7 +24,7 @@ class Layout {
       out_.nodes[index].times = uint32_t(out_.times.size());
       out_.times.push_back(tree_.times[from.times]);
     }
-    const uint32_t inlineGeom = mostCommonSingleGeometry(from);
+    const uint32_t inlineGeom = inline_ ? mostCommonSingleGeometry(from) : kInvalidId;
     out_.nodes[index].leafGeom = inlineGeom;
     for (int i = 0; i < N; ++i) {
       if (from.isLeaf(i)) {
@@ -66,12 +67,14 @@ class Layout {
 
   const UnorderedWideBvh<N, Motion>& tree_;
   WideBvh<N, Motion>& out_;
+  bool inline_;
 };
 
 }  // namespace
 
 template <int N, bool Motion>
-void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget) {
+void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget,
+            bool inlineLeaves) {
   out = WideBvh<N, Motion>();
   if (tree.root == tree.kNone) return;
   budget.charge(tree.nodes.size() * sizeof(WideNode<N, Motion>) + tree.prims.size() * sizeof(PrimRef) +
@@ -80,11 +83,11 @@ void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, Bu
   out.nodes.reserve(tree.nodes.size());
   out.times.reserve(tree.times.size());
   out.prims.reserve(tree.prims.size());
-  Layout<N, Motion>(tree, out).emit(tree.root, 1);
+  Layout<N, Motion>(tree, out, inlineLeaves).emit(tree.root, 1);
 }
 
 #define MBRT_LAY_OUT(N, Motion) \
-  template void layOut<N, Motion>(const UnorderedWideBvh<N, Motion>&, WideBvh<N, Motion>&, BuildBudget&);
+  template void layOut<N, Motion>(const UnorderedWideBvh<N, Motion>&, WideBvh<N, Motion>&, BuildBudget&, bool);
 MBRT_LAY_OUT(2, true)
 MBRT_LAY_OUT(4, true)
 MBRT_LAY_OUT(8, true)

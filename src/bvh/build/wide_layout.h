@@ -36,8 +36,11 @@ struct UnorderedWideBvh {
 };
 
 // Lays `tree` out into `out` (replaced) from its root; charges `out`'s
-// storage to `budget`.
+// storage to `budget`. `inlineLeaves`: one-reference leaves are kept in
+// their node (kInlineLeaf); off for trees whose leaves are all tested from
+// leaf blocks (BuildSettings::leafBlock > 1), which index the table.
 template <int N, bool Motion>
-void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget);
+void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget,
+            bool inlineLeaves = true);
 
 }  // namespace mbrt::detail

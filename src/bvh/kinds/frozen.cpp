@@ -36,6 +36,14 @@ class Frozen final : public WideBvhStructure<N, false> {
     const int leafBlock = leafBlockFor(prims.size());
     buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_, nullptr, true, leafBlock);
     Base::blocks_ = TriangleLeafBlocks(ctx, bvh_, Base::stored_, time_);
+    if (leafBlock > 1) {
+      // No leaf is kept in a node (wide_layout.h), so every leaf of stored
+      // triangles reads its blocks; the few others (a geometry with a filter
+      // beside them) interpolate at the frozen time through the indices, to
+      // the same values. The stored triangles are not needed any more.
+      ctx.budget().release(Base::stored_.vertices.size() * sizeof(Vec3f));
+      Base::stored_ = FixedTimeTriangles();
+    }
   }
 
   // Leaves charged per block of four (Embree's Triangle4 SAH) and laid out
