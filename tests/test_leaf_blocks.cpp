@@ -185,14 +185,14 @@ void checkBlockedLeaves(Scene& scene, float scale) {
     }
     const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(count) + " references";
     ASSERT_EQ(detail::intersectLeaf<true>(ctx, bvh.prims.data(), count, leaf, viaLeaf, nullptr, &fixed), found);
-    ASSERT_EQ(detail::leaf_block::intersectBlocks(b, count, blocked, got), found) << what;
+    ASSERT_EQ(detail::leaf_block::intersectBlocks(b, count, blocked, detail::BlockRay<4>(ray), got), found) << what;
     EXPECT_TRUE(sameBits(blocked.tfar, one.tfar)) << what;
     EXPECT_TRUE(sameBits(blocked.tfar, leaf.tfar)) << what;
     if (found) {
       expectSameHit(got, expected, what);
       expectSameHit(got, viaLeaf, what);
     }
-    EXPECT_EQ(detail::leaf_block::occludedBlocks(b, count, anyBlocked), occluded) << what;
+    EXPECT_EQ(detail::leaf_block::occludedBlocks(b, count, anyBlocked, detail::BlockRay<4>(ray)), occluded) << what;
     EXPECT_EQ(detail::occludedLeaf<true>(ctx, bvh.prims.data(), count, anyLeaf, &fixed), occluded) << what;
     hits += found;
     masked += ray.mask != ~0u;

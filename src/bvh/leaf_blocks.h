@@ -101,29 +101,30 @@ namespace leaf_block {
 
 // The blocks of a leaf of `count` triangles: onHit(hit) for each candidate
 // hit in reference order, as testRun would call it; stops when onHit
-// returns true.
+// returns true. r is BlockRay(ray), made once per ray.
 template <class OnHit>
-inline bool testBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray, OnHit&& onHit) {
+inline bool testBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray,
+                       const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
   constexpr int W = kLeafBlockWidth;
   TriangleBlockResult<W> res;
   for (uint32_t first = 0; first < count; first += W, ++blocks) {
     const TriangleLeafBlock& b = *blocks;
-    const uint32_t lanes = std::min<uint32_t>(W, count - first);
-    uint32_t valid = 0;
-    for (int lane = 0; lane < W; ++lane) valid |= uint32_t((b.mask[lane] & ray.mask) != 0) << lane;
-    valid &= (1u << lanes) - 1u;
+    uint32_t valid = nonZeroAndMask4(b.mask, ray.mask);
+    if (count - first < uint32_t(W)) valid &= (1u << (count - first)) - 1u;  // the leaf's last lanes
     if (valid == 0) continue;
-    intersectTriangleBlock(ray, b.tri, valid, res);
+    intersectTriangleBlock(ray, r, b.tri, valid, res);
     for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
       const int lane = __builtin_ctz(todo);
       const PrimRef ref{b.geomID[lane], b.primID[lane]};
-      const Vec3f v0 = b.tri.vertex(0, lane), v1 = b.tri.vertex(1, lane), v2 = b.tri.vertex(2, lane);
       if (res.scalar >> lane & 1u) {
-        if (leaf_run::testOneTriangle(ref, v0, v1, v2, ray, onHit)) return true;
+        if (leaf_run::testOneTriangle(ref, b.tri.vertex(0, lane), b.tri.vertex(1, lane), b.tri.vertex(2, lane), ray,
+                                      onHit))
+          return true;
         continue;
       }
       TriangleHit th;
       if (!res.accept(lane, ray, th)) continue;
+      const Vec3f v0 = b.tri.vertex(0, lane), v1 = b.tri.vertex(1, lane), v2 = b.tri.vertex(2, lane);
       Hit h;
       h.t = th.t;
       h.u = th.u;
@@ -139,9 +140,10 @@ inline bool testBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery
 }
 
 // Closest hit among the leaf's triangles (as intersectLeaf).
-inline bool intersectBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray, Hit& hit) {
+inline bool intersectBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray,
+                            const BlockRay<kLeafBlockWidth>& r, Hit& hit) {
   bool found = false;
-  testBlocks(blocks, count, ray, [&](const Hit& h) {
+  testBlocks(blocks, count, ray, r, [&](const Hit& h) {
     hit = h;
     ray.tfar = h.t;
     found = true;
@@ -151,8 +153,9 @@ inline bool intersectBlocks(const TriangleLeafBlock* blocks, uint32_t count, Ray
 }
 
 // Any hit among the leaf's triangles (as occludedLeaf).
-inline bool occludedBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray) {
-  return testBlocks(blocks, count, ray, [](const Hit&) { return true; });
+inline bool occludedBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray,
+                           const BlockRay<kLeafBlockWidth>& r) {
+  return testBlocks(blocks, count, ray, r, [](const Hit&) { return true; });
 }
 
 }  // namespace leaf_block

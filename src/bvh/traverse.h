@@ -228,6 +228,7 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
   const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(ray, boxTime);
+  const BlockRay<kLeafBlockWidth> blockRay(ray);  // static trees only: dropped from motion trees' code
   return wideTraverse<AnyHit, Count, N>(
       bvh.stackSize, ray, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
       [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
@@ -238,8 +239,8 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
         if constexpr (!Motion)
           if (useBlocks && !(item.count & TraversalItem::kInline))
             if (const TriangleLeafBlock* b = blocks->of(item.child)) {
-              if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray);
-              else return leaf_block::intersectBlocks(b, item.count, ray, *hit);
+              if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray, blockRay);
+              else return leaf_block::intersectBlocks(b, item.count, ray, blockRay, *hit);
             }
         PrimRef one;
         const PrimRef* prims = item.references(bvh.prims.data(), one);

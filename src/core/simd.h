@@ -248,6 +248,19 @@ inline uint32_t bytesDifferMask(const uint8_t* p, uint8_t value) {
 #endif
 }
 
+// Bit i set, for i < 4, when p[i] & m is not zero (the lanes of a leaf
+// block whose geometry mask meets the ray's).
+inline uint32_t nonZeroAndMask4(const uint32_t* p, uint32_t m) {
+#if MBRT_SIMD_LEVEL >= 1
+  const __m128i v = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), _mm_set1_epi32(int(m)));
+  return ~uint32_t(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(v, _mm_setzero_si128())))) & 0xFu;
+#else
+  uint32_t r = 0;
+  for (int i = 0; i < 4; ++i) r |= uint32_t((p[i] & m) != 0) << i;
+  return r;
+#endif
+}
+
 // Starts loading the cache line at p into all cache levels (a hint).
 inline void prefetch(const void* p) {
 #if MBRT_SIMD_LEVEL >= 1

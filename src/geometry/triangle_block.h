@@ -49,18 +49,31 @@ struct TriangleBlockResult {
   }
 };
 
-// The lanes in `valid` of block b against the ray (its tnear and tfar now).
+// What the block test needs of a ray that does not change along its
+// traversal (all but tfar), broadcast once per ray: the origin in the
+// permuted axes, the shear, and the axes' rows of a block.
 template <int W>
-inline void intersectTriangleBlock(const RayQuery& ray, const TriangleBlock<W>& b, uint32_t valid,
-                                   TriangleBlockResult<W>& out) {
-  using P = Pack<W>;
-  const int axis[3] = {ray.kx, ray.ky, ray.kz};
-  P rel[3][3];  // vertex - org, per permuted component: (v - org)[k] as the scalar test
-  for (int c = 0; c < 3; ++c) {
-    const P o = P::set1(ray.org[axis[c]]);
-    for (int k = 0; k < 3; ++k) rel[k][c] = P::load(b.p[k][axis[c]]) - o;
+struct BlockRay {
+  Pack<W> org[3], Sx, Sy, Sz;
+  int axis[3];
+  explicit BlockRay(const RayQuery& ray) : axis{ray.kx, ray.ky, ray.kz} {
+    for (int c = 0; c < 3; ++c) org[c] = Pack<W>::set1(ray.org[axis[c]]);
+    Sx = Pack<W>::set1(ray.Sx);
+    Sy = Pack<W>::set1(ray.Sy);
+    Sz = Pack<W>::set1(ray.Sz);
   }
-  const P Sx = P::set1(ray.Sx), Sy = P::set1(ray.Sy), Sz = P::set1(ray.Sz);
+};
+
+// The lanes in `valid` of block b against the ray (its tnear and tfar now);
+// r is BlockRay(ray).
+template <int W>
+inline void intersectTriangleBlock(const RayQuery& ray, const BlockRay<W>& r, const TriangleBlock<W>& b,
+                                   uint32_t valid, TriangleBlockResult<W>& out) {
+  using P = Pack<W>;
+  P rel[3][3];  // vertex - org, per permuted component: (v - org)[k] as the scalar test
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) rel[k][c] = P::load(b.p[k][r.axis[c]]) - r.org[c];
+  const P Sx = r.Sx, Sy = r.Sy, Sz = r.Sz;
   const P Ax = rel[0][0] - Sx * rel[0][2], Ay = rel[0][1] - Sy * rel[0][2];
   const P Bx = rel[1][0] - Sx * rel[1][2], By = rel[1][1] - Sy * rel[1][2];
   const P Cx = rel[2][0] - Sx * rel[2][2], Cy = rel[2][1] - Sy * rel[2][2];
@@ -91,6 +104,12 @@ inline void intersectTriangleBlock(const RayQuery& ray, const TriangleBlock<W>& 
   (Wt * rcpDet).store(out.v);
   Ts.store(out.Ts);
   absDet.store(out.absDet);
+}
+
+template <int W>
+inline void intersectTriangleBlock(const RayQuery& ray, const TriangleBlock<W>& b, uint32_t valid,
+                                   TriangleBlockResult<W>& out) {
+  intersectTriangleBlock(ray, BlockRay<W>(ray), b, valid, out);
 }
 
 }  // namespace mbrt::detail
