@@ -1,21 +1,23 @@
-// The leaf blocks of `frozen` (geometry/triangle_block.h, bvh/leaf_blocks.h)
-// against the one-by-one test: intersectTriangleBlock lane by lane against
-// intersectTriangle (bits of t, u, v), and a blocked leaf against
-// intersectPrimitive on each reference in order and against the leaf's
-// own path (intersectLeaf on the stored triangles): the same hit, bits of
-// t, u, v, Ng and ids, the same final tfar, the same occlusion. The cases:
-// shared edges and vertices (zero edge functions, the double path),
-// degenerate triangles (a segment, a point), duplicate triangles (ties),
-// coordinates beyond float's edge-function range, lanes left out of a
-// block, geometry masks, filters (no blocks) and leaf sizes 1 to 13 around
-// the block width. Then the tree: its leaves fill blocks, and it agrees
-// with brute force.
+// The leaf blocks of `frozen` and `bvh-interp` (geometry/triangle_block.h,
+// bvh/leaf_blocks.h, bvh/motion_leaf_blocks.h) against the one-by-one
+// test: intersectTriangleBlock lane by lane against intersectTriangle (bits
+// of t, u, v), and a blocked leaf against intersectPrimitive on each
+// reference in order and against the leaf's own path (intersectLeaf): the
+// same hit, bits of t, u, v, Ng and ids, the same final tfar, the same
+// occlusion. The cases: shared edges and vertices (zero edge functions,
+// the double path), degenerate triangles (a segment, a point), duplicate
+// triangles (ties), coordinates beyond float's edge-function range, lanes
+// left out of a block, geometry masks, time ranges and steps (motion
+// blocks), filters (no blocks) and leaf sizes 1 to 13 around the block
+// width. Then the trees: their leaves fill blocks, and they agree with
+// brute force.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <random>
 
 #include "bvh/leaf_blocks.h"
+#include "bvh/motion_leaf_blocks.h"
 #include "oracle.h"
 #include "scene/scene_context.h"
 #include "test_util.h"
@@ -34,8 +36,10 @@ void expectSameHit(const Hit& a, const Hit& b, const std::string& what) {
 
 // A grid of 2 * n * n triangles in the plane z = zOffset (shared edges),
 // each triangle twice (ties), then `degenerate` triangles: a segment (its
-// third vertex on the first edge) and a point, over `steps` steps.
-uint32_t addGrid(Scene& scene, int n, float scale, float zOffset, uint32_t steps, bool degenerate) {
+// third vertex on the first edge) and a point, over `steps` steps (alive
+// over `range`).
+uint32_t addGrid(Scene& scene, int n, float scale, float zOffset, uint32_t steps, bool degenerate,
+                 TimeRange range = {}) {
   std::vector<Triangle> tris;
   std::vector<std::vector<Vec3f>> pos(steps);
   for (uint32_t s = 0; s < steps; ++s)
@@ -55,7 +59,7 @@ uint32_t addGrid(Scene& scene, int n, float scale, float zOffset, uint32_t steps
         tris.push_back({at(x, y), at(x, y), at(x, y)});
       }
     }
-  return scene.addTriangleMesh(std::move(tris), std::move(pos));
+  return scene.addTriangleMesh(std::move(tris), std::move(pos), range);
 }
 
 // A ray towards a vertex of triangle `prim` (through shared edges and
@@ -136,11 +140,12 @@ TEST(LeafBlocks, BlockLanesAgreeWithTheScalarTest) {
 
 // One leaf of `count` references, as the builder stores it (sorted by
 // geometry, then primitive), in a one-node tree.
-detail::WideBvh<8, false> oneLeaf(std::vector<detail::PrimRef> refs) {
+template <bool Motion = false>
+detail::WideBvh<8, Motion> oneLeaf(std::vector<detail::PrimRef> refs) {
   std::sort(refs.begin(), refs.end(), [](detail::PrimRef a, detail::PrimRef b) {
     return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
   });
-  detail::WideBvh<8, false> bvh;
+  detail::WideBvh<8, Motion> bvh;
   bvh.nodes.resize(1);
   bvh.nodes[0].clear();
   bvh.nodes[0].count[0] = uint8_t(refs.size());
@@ -236,10 +241,95 @@ TEST(LeafBlocks, LeavesWithFiltersAreNotBlocked) {
   EXPECT_EQ(plain.blocks.size(), 2u);
 }
 
-// The tree whose SAH charges leaves per block keeps leaves that fill
+// Motion blocks: leaves of 1 to 13 references of one geometry, at random
+// times, against intersectPrimitive one by one and intersectLeaf through
+// the vertex buffers; geometries of 1, 2 and 5 steps, one alive over part
+// of the shutter only, masks.
+TEST(LeafBlocks, MotionBlocksAgreeWithTheOneByOneTest) {
+  Scene scene;
+  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 5, true), 1u);
+  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 2, false, {0.25f, 0.75f}), 2u);
+  scene.setMask(addGrid(scene, 4, 1.0f, 0.25f, 1, true), 3u);
+  addGrid(scene, 3, 1e13f, 0.5f, 3, true);  // edge functions beyond float: the double path
+  BuildOptions o;
+  detail::BuildBudget budget;
+  const detail::SceneContext ctx(scene, o, budget);
+  std::mt19937 rng(5);
+  int hits = 0, blocked = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    const uint32_t geomID = rng() % scene.numGeometries();
+    const Geometry& g = ctx.geometry(geomID);
+    const uint32_t numTris = uint32_t(g.triangles().size());
+    const uint32_t count = 1 + rng() % 13;
+    const uint32_t first = rng() % (numTris - count);
+    std::vector<detail::PrimRef> refs;
+    for (uint32_t i = 0; i < count; ++i) refs.push_back({geomID, rng() % 4 == 0 ? rng() % numTris : first + i});
+    const detail::WideBvh<8, true> bvh = oneLeaf<true>(refs);
+    const detail::MotionLeafBlocks mb(ctx, bvh);
+    const detail::MotionLeafBlocks::Leaf* leaf = mb.of(0);
+    ASSERT_NE(leaf, nullptr);
+    ASSERT_EQ(mb.blocks.size(), (count + 3) / 4 * g.numSteps());
+    float time = std::uniform_real_distribution<float>(0, 1)(rng);
+    if (trial % 5 == 0) time = float(rng() % 5) / 4.0f;  // on a step, at the ends of the range
+    const detail::PrimRef aim = bvh.prims[rng() % count];
+    const float scale = geomID == 3 ? 1e13f : 1.0f;
+    detail::RayQuery ray = rayTowards(rng, g, aim.primID, scale, g.timeRange().contains(time) ? time : 0.5f);
+    ray.time = time;
+    const uint32_t masks[] = {~0u, 1u, 2u, 4u};
+    ray.mask = masks[rng() % 4];
+    if (trial % 3 == 0) ray.tfar = std::uniform_real_distribution<float>(0.5f, 1.0f)(rng);
+    detail::RayQuery one = ray, viaLeaf = ray, viaBlocks = ray, anyLeaf = ray, anyBlocks = ray;
+    Hit expected, leafHit, got;
+    bool found = false, occluded = false;
+    for (const detail::PrimRef& p : bvh.prims) {
+      found |= detail::intersectPrimitive(ctx, p, one, expected);
+      occluded = occluded || detail::occludedPrimitive(ctx, p, ray);
+    }
+    const detail::BlockRay<4> r(ray);
+    const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(count) + " references";
+    ASSERT_EQ(detail::intersectLeaf(ctx, bvh.prims.data(), count, viaLeaf, leafHit, nullptr), found) << what;
+    ASSERT_EQ(detail::leaf_block::intersectMotionBlocks(ctx, mb, *leaf, bvh.prims.data(), count, viaBlocks, r, got),
+              found)
+        << what;
+    EXPECT_TRUE(sameBits(viaBlocks.tfar, one.tfar)) << what;
+    if (found) {
+      expectSameHit(got, expected, what);
+      expectSameHit(got, leafHit, what);
+    }
+    EXPECT_EQ(detail::leaf_block::occludedMotionBlocks(ctx, mb, *leaf, bvh.prims.data(), count, anyBlocks, r),
+              occluded)
+        << what;
+    EXPECT_EQ(detail::occludedLeaf(ctx, bvh.prims.data(), count, anyLeaf), occluded) << what;
+    hits += found;
+    blocked += g.numSteps() > 1;
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(blocked, 3000);
+}
+
+// A motion leaf of two geometries, or of a geometry with a filter, is not
+// blocked (its runs take intersectLeaf's paths).
+TEST(LeafBlocks, MixedOrFilteredMotionLeavesAreNotBlocked) {
+  Scene scene;
+  addGrid(scene, 2, 1.0f, 0.0f, 2, false);
+  addGrid(scene, 2, 1.0f, 0.0f, 2, false);
+  const uint32_t filtered = addGrid(scene, 2, 1.0f, 0.0f, 2, false);
+  scene.setFilter(filtered, [](const FilterArgs&) { return true; });
+  BuildOptions o;
+  detail::BuildBudget budget;
+  const detail::SceneContext ctx(scene, o, budget);
+  EXPECT_TRUE(detail::MotionLeafBlocks(ctx, oneLeaf<true>({{0, 0}, {1, 1}})).empty());
+  EXPECT_TRUE(detail::MotionLeafBlocks(ctx, oneLeaf<true>({{filtered, 0}, {filtered, 1}})).empty());
+  const detail::MotionLeafBlocks plain(ctx, oneLeaf<true>({{1, 0}, {1, 1}, {1, 2}, {1, 3}, {1, 4}}));
+  ASSERT_NE(plain.of(0), nullptr);
+  EXPECT_EQ(plain.blocks.size(), 4u);  // 2 blocks x 2 steps
+}
+
+// The trees whose SAH charges leaves per block keep leaves that fill
 // blocks (per reference, the SAH and the lane filling leave ~1.1 per leaf),
-// and `frozen` on it agrees with brute force at several times.
-TEST(LeafBlocks, FrozenLeavesFillBlocksAndAgreeWithBrute) {
+// and `frozen` (at two times) and `bvh-interp` (at random and step times)
+// on them agree with brute force.
+TEST(LeafBlocks, BlockTreesFillBlocksAndAgreeWithBrute) {
   for (const char* name : {"translate", "deform", "hairball"}) {
     const ProceduralScene ps = makeProceduralScene(name, 0.02, 5);
     BuildOptions bo;
@@ -257,6 +347,15 @@ TEST(LeafBlocks, FrozenLeavesFillBlocksAndAgreeWithBrute) {
       EXPECT_EQ(rep.anyWrong, 0u) << name << " frozen@" << t;
       EXPECT_GT(rep.hits, rep.rays / 4) << "too few hits to mean anything";
     }
+    BuildOptions mo;
+    mo.kind = AccelKind::BvhInterp;
+    auto motion = Accel::build(*ps.scene, mo);
+    const AccelStats st = motion->stats();
+    EXPECT_GT(double(st.references) / double(st.leafNodes), 2.0) << name;
+    const auto rep = test::compareWithOracle(*oracle, *motion, test::oracleRays(ps, 2000, 20, 19));
+    EXPECT_EQ(rep.wrong, 0u) << name << " bvh-interp: " << rep.firstFailure;
+    EXPECT_EQ(rep.anyWrong, 0u) << name << " bvh-interp";
+    EXPECT_GT(rep.hits, rep.rays / 4) << "too few hits to mean anything";
   }
 }
 

@@ -99,6 +99,46 @@ struct TriangleLeafBlocks {
 
 namespace leaf_block {
 
+// The lanes in `valid` of one block: onHit(hit) for each candidate hit in
+// lane order, as testing the lanes' triangles one by one would call it;
+// stops when onHit returns true. ref(lane) is the lane's reference; r is
+// BlockRay(ray), made once per ray.
+template <class Ref, class OnHit>
+[[gnu::always_inline]] inline bool testBlock(const TriangleBlock<kLeafBlockWidth>& tri, uint32_t valid,
+                                             const Ref& ref, RayQuery& ray, const BlockRay<kLeafBlockWidth>& r,
+                                             OnHit&& onHit) {
+  TriangleBlockResult<kLeafBlockWidth> res;
+  intersectTriangleBlock(ray, r, tri, valid, res);
+  for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
+    const int lane = __builtin_ctz(todo);
+    if (res.scalar >> lane & 1u) {
+      if (leaf_run::testOneTriangle(ref(lane), tri.vertex(0, lane), tri.vertex(1, lane), tri.vertex(2, lane), ray,
+                                    onHit))
+        return true;
+      continue;
+    }
+    TriangleHit th;
+    if (!res.accept(lane, ray, th)) continue;
+    const Vec3f v0 = tri.vertex(0, lane), v1 = tri.vertex(1, lane), v2 = tri.vertex(2, lane);
+    const PrimRef p = ref(lane);
+    Hit h;
+    h.t = th.t;
+    h.u = th.u;
+    h.v = th.v;
+    h.Ng = cross(v1 - v0, v2 - v0);
+    h.geomID = p.geomID;
+    h.primID = p.primID;
+    h.instID = kInvalidId;
+    if (onHit(h)) return true;
+  }
+  return false;
+}
+
+// Lanes [0, n) of a block, n = the leaf's references left (at most W used).
+inline uint32_t presentLanes(uint32_t left) {
+  return left < uint32_t(kLeafBlockWidth) ? (1u << left) - 1u : (1u << kLeafBlockWidth) - 1u;
+}
+
 // The blocks of a leaf of `count` triangles: onHit(hit) for each candidate
 // hit in reference order, as testRun would call it; stops when onHit
 // returns true. r is BlockRay(ray), made once per ray.
@@ -106,35 +146,12 @@ template <class OnHit>
 inline bool testBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray,
                        const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
   constexpr int W = kLeafBlockWidth;
-  TriangleBlockResult<W> res;
   for (uint32_t first = 0; first < count; first += W, ++blocks) {
     const TriangleLeafBlock& b = *blocks;
-    uint32_t valid = nonZeroAndMask4(b.mask, ray.mask);
-    if (count - first < uint32_t(W)) valid &= (1u << (count - first)) - 1u;  // the leaf's last lanes
+    const uint32_t valid = nonZeroAndMask4(b.mask, ray.mask) & presentLanes(count - first);
     if (valid == 0) continue;
-    intersectTriangleBlock(ray, r, b.tri, valid, res);
-    for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
-      const int lane = __builtin_ctz(todo);
-      const PrimRef ref{b.geomID[lane], b.primID[lane]};
-      if (res.scalar >> lane & 1u) {
-        if (leaf_run::testOneTriangle(ref, b.tri.vertex(0, lane), b.tri.vertex(1, lane), b.tri.vertex(2, lane), ray,
-                                      onHit))
-          return true;
-        continue;
-      }
-      TriangleHit th;
-      if (!res.accept(lane, ray, th)) continue;
-      const Vec3f v0 = b.tri.vertex(0, lane), v1 = b.tri.vertex(1, lane), v2 = b.tri.vertex(2, lane);
-      Hit h;
-      h.t = th.t;
-      h.u = th.u;
-      h.v = th.v;
-      h.Ng = cross(v1 - v0, v2 - v0);
-      h.geomID = ref.geomID;
-      h.primID = ref.primID;
-      h.instID = kInvalidId;
-      if (onHit(h)) return true;
-    }
+    const auto ref = [&b](int lane) { return PrimRef{b.geomID[lane], b.primID[lane]}; };
+    if (testBlock(b.tri, valid, ref, ray, r, onHit)) return true;
   }
   return false;
 }

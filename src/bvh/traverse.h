@@ -12,6 +12,7 @@
 #include "core/robust_slab.h"
 #include "bvh/nodes/wide_bvh.h"
 #include "bvh/leaf_blocks.h"
+#include "bvh/motion_leaf_blocks.h"
 #include "bvh/leaf_intersect.h"
 
 namespace mbrt::detail {
@@ -219,16 +220,17 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
 // boxTime is the ray's time in the tree's time parameter; the leaf test uses
 // ray.time, and `stored` triangles when given (valid at ray.time), and a
-// static tree's leaf `blocks` when given (leaf_blocks.h). Count adds nodes
+// static tree's leaf `blocks` (leaf_blocks.h) or a motion tree's
+// `motionBlocks` (motion_leaf_blocks.h) when given. Count adds nodes
 // visited, box tests and primitive tests.
 template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
               TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
-              const TriangleLeafBlocks* blocks = nullptr) {
+              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr) {
   const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(ray, boxTime);
-  const BlockRay<kLeafBlockWidth> blockRay(ray);  // static trees only: dropped from motion trees' code
+  const BlockRay<kLeafBlockWidth> blockRay(ray);
   return wideTraverse<AnyHit, Count, N>(
       bvh.stackSize, ray, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
       [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
@@ -241,6 +243,16 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
             if (const TriangleLeafBlock* b = blocks->of(item.child)) {
               if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray, blockRay);
               else return leaf_block::intersectBlocks(b, item.count, ray, blockRay, *hit);
+            }
+        if constexpr (Motion)
+          if (motionBlocks && !(item.count & TraversalItem::kInline))
+            if (const MotionLeafBlocks::Leaf* l = motionBlocks->of(item.child)) {
+              const PrimRef* prims = bvh.prims.data() + item.child;
+              if constexpr (AnyHit)
+                return leaf_block::occludedMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay);
+              else
+                return leaf_block::intersectMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay,
+                                                         *hit);
             }
         PrimRef one;
         const PrimRef* prims = item.references(bvh.prims.data(), one);

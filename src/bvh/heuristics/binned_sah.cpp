@@ -151,8 +151,8 @@ ObjectSplit splitPair(std::span<const Ref> refs, const ObjectSplit (&axes)[3], i
     typename T::Acc lb, rb;
     lb.extend(T::bounds(refs[left]));
     rb.extend(T::bounds(refs[1 - left]));
-    const float rightCost = rb.area() * leafBlocks(T::weight(refs[1 - left]), leafBlock);
-    const float cost = lb.area() * leafBlocks(T::weight(refs[left]), leafBlock) + rightCost;
+    const float rightCost = rb.area() * leafBlocks(T::weight(refs[1 - left]), 1, leafBlock);
+    const float cost = lb.area() * leafBlocks(T::weight(refs[left]), 1, leafBlock) + rightCost;
     if (!(cost < kInf)) break;  // every axis has this cost: no split beats kInf
     ObjectSplit split = axes[axis];
     split.bin = bins[left][axis] + 1;
@@ -169,7 +169,7 @@ void sweepAxis(const Bin<Ref>* ab, const ObjectSplit& axis, size_t total, int le
   const int numBins = axis.numBins;
   // Sweep from the right: cost of bins [i, numBins).
   typename RefTraits<Ref>::Acc acc;
-  uint64_t active = 0;
+  uint64_t active = 0, count = 0;
   // Empty bins change nothing: they repeat the costs of their neighbour
   // (small nodes leave most of the bins empty).
   float cost = 0.0f;
@@ -177,7 +177,8 @@ void sweepAxis(const Bin<Ref>* ab, const ObjectSplit& axis, size_t total, int le
     if (ab[i].count != 0 || i + 1 == numBins) {
       acc.extend(ab[i].bounds);
       active += ab[i].active;
-      cost = acc.area() * leafBlocks(active, leafBlock);
+      count += ab[i].count;
+      cost = acc.area() * leafBlocks(active, count, leafBlock);
     }
     rightCost[i] = cost;
   }
@@ -193,7 +194,7 @@ void sweepAxis(const Bin<Ref>* ab, const ObjectSplit& axis, size_t total, int le
     active += ab[i - 1].active;
     leftCount += ab[i - 1].count;
     if (leftCount == 0 || leftCount == total) continue;
-    const float c = acc.area() * leafBlocks(active, leafBlock) + rightCost[i];
+    const float c = acc.area() * leafBlocks(active, leftCount, leafBlock) + rightCost[i];
     if (c < best.cost) {
       best = axis;
       best.bin = i;

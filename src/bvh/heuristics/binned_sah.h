@@ -53,12 +53,16 @@ struct ObjectSplit {
 // from 4 + 5%: docs/stbvh.md).
 int adaptiveObjectBins(int maxBins, size_t count);
 
-// The SAH's intersection cost of `weight` references (or segments) in leaf
-// blocks of `leafBlock`: a block is tested at once, so it costs as one
+// The SAH's intersection cost of `count` references of summed weight
+// `weight` (their active segments, MBSAH) in leaf blocks of `leafBlock`: a
+// block is tested at once, so it costs as one reference of the mean weight
 // (Embree's BVH builders charge ceil(n / 4) for Triangle4 leaves,
-// GeneralBVHBuilder's logBlockSize). leafBlock 1: one per reference.
-inline float leafBlocks(uint64_t weight, int leafBlock) {
-  return leafBlock <= 1 ? float(weight) : float((weight + uint64_t(leafBlock) - 1) / uint64_t(leafBlock));
+// GeneralBVHBuilder's logBlockSize). leafBlock 1: the weight itself. With
+// weight == count (a static tree) this is exactly ceil(count / leafBlock).
+inline float leafBlocks(uint64_t weight, uint64_t count, int leafBlock) {
+  if (leafBlock <= 1 || count == 0) return float(weight);
+  const float blocks = float((count + uint64_t(leafBlock) - 1) / uint64_t(leafBlock));
+  return blocks * (float(weight) / float(count));
 }
 
 // Best split over all three axes with `numBins` bins each (at most 256);

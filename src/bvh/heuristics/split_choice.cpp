@@ -15,7 +15,7 @@ Decision SplitChooser::choose(std::span<BuildRef> refs, const RefSetInfo& info, 
   const size_t count = refs.size();
   if (count <= 1 && !s_.temporal) return d;
   const ObjectSplit split = objectSplit(refs, info, depth);
-  const float leafCost = area * leafBlocks(info.active, s_.leafBlock);
+  const float leafCost = area * leafBlocks(info.active, count, s_.leafBlock);
   float best = split.cost;  // unnormalised, kInf when invalid
   // Temporal split: tried when the object split is poor (θ), chosen when
   // it wins even with the penalty λ for the references it duplicates.

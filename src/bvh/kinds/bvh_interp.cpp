@@ -16,12 +16,27 @@ class BvhInterp final : public WideBvhStructure<N, true> {
   explicit BvhInterp(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_);
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, nullptr, true, leafBlockFor(ctx));
+    Base::motionBlocks_ = MotionLeafBlocks(ctx, bvh_);
+  }
+
+  // Leaves charged per block of four (binned_sah.h, leafBlocks) and laid
+  // out as motion blocks (motion_leaf_blocks.h) when at least 3/4 of the
+  // primitives are triangles without a filter; else per reference.
+  static int leafBlockFor(const SceneContext& ctx) {
+    size_t triangles = 0, all = 0;
+    for (uint32_t id = 0; id < ctx.scene().numGeometries(); ++id) {
+      const Geometry& g = ctx.geometry(id);
+      all += g.numPrimitives();
+      if (g.type() == GeometryType::Triangles && !g.hasFilter()) triangles += g.numPrimitives();
+    }
+    return 4 * triangles >= 3 * all ? kLeafBlockWidth : 1;
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, {0.0f, 1.0f}); }, sums);
+    sums.bytes += Base::motionBlocks_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
   }
 
@@ -37,6 +52,11 @@ class BvhInterp final : public WideBvhStructure<N, true> {
     bool ok = true;
     refitNode(0, ok);
     if (!ok) return false;
+    if (!Base::motionBlocks_.empty()) {  // the vertices moved: the blocks are made again
+      const size_t before = Base::motionBlocks_.bytes();
+      Base::motionBlocks_ = MotionLeafBlocks(ctx_, bvh_);
+      ctx_.budget().release(before);
+    }
     return true;
   }
 
