@@ -263,7 +263,7 @@ TEST(LeafBlocks, MotionBlocksAgreeWithTheOneByOneTest) {
     const uint32_t count = 1 + rng() % 13;
     const uint32_t first = rng() % (numTris - count);
     std::vector<detail::PrimRef> refs;
-    for (uint32_t i = 0; i < count; ++i) refs.push_back({geomID, rng() % 4 == 0 ? rng() % numTris : first + i});
+    for (uint32_t i = 0; i < count; ++i) refs.push_back({geomID, uint32_t(rng() % 4 == 0 ? rng() % numTris : first + i)});
     const detail::WideBvh<8, true> bvh = oneLeaf<true>(refs);
     const detail::MotionLeafBlocks mb(ctx, bvh);
     const detail::MotionLeafBlocks::Leaf* leaf = mb.of(0);
