@@ -66,6 +66,20 @@ TEST(AutoExtraction, ToleranceDecidesNearlyRigidMeshes) {
       << "tolerance 0 extracts only exact fits, and float rotations are not exact";
 }
 
+// A rigid part as a scene of one instance: the part's triangles at the
+// rest pose (step 0) under the fit's keys.
+struct PartAsInstance {
+  std::vector<Triangle> tris;
+  Scene top;
+  PartAsInstance(const Geometry& g, const detail::RigidPart& part) {
+    if (part.prims.empty()) tris.assign(g.triangles().begin(), g.triangles().end());
+    for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
+    auto child = std::make_shared<Scene>();
+    child->addTriangleMesh(tris, std::vector<VertexBuffer>{g.vertices(0)});
+    top.addInstance(child, part.fit.keys, g.timeRange());
+  }
+};
+
 // Every affine key lerped and applied to the rest pose stays inside the
 // instance's linear bounds, and so does the original mesh (within the fit).
 TEST(AutoBounds, InstanceBoundsAreConservativeAtSampledTimes) {
@@ -73,13 +87,9 @@ TEST(AutoBounds, InstanceBoundsAreConservativeAtSampledTimes) {
   const detail::AutoPlan plan = detail::planDecomposition(*ps.scene, 1e-5);
   for (const detail::RigidPart& part : plan.rigid) {
     const Geometry& g = ps.scene->geometry(part.geomID);
-    std::vector<Triangle> tris;
-    if (part.prims.empty()) tris.assign(g.triangles().begin(), g.triangles().end());
-    for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
-    auto child = std::make_shared<Scene>();
-    child->addTriangleMesh(tris, std::vector<VertexBuffer>{g.vertices(0)});
-    Scene top;
-    top.addInstance(child, part.fit.keys, g.timeRange());
+    const PartAsInstance asInstance(g, part);
+    const std::vector<Triangle>& tris = asInstance.tris;
+    const Scene& top = asInstance.top;
     BuildOptions o;
     o.kind = AccelKind::Brute;
     detail::BuildBudget budget(0);
@@ -131,13 +141,9 @@ TEST(AutoBounds, PartKeyBoxesHoldTheInstanceAndBeatCornerBounds) {
     const Geometry& g = ps.scene->geometry(part.geomID);
     const std::vector<Box3f> boxes = detail::partKeyBoxes(g, part);
     ASSERT_EQ(boxes.size(), g.numSteps());
-    std::vector<Triangle> tris;
-    if (part.prims.empty()) tris.assign(g.triangles().begin(), g.triangles().end());
-    for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
-    auto child = std::make_shared<Scene>();
-    child->addTriangleMesh(tris, std::vector<VertexBuffer>{g.vertices(0)});
-    Scene top;
-    top.addInstance(child, part.fit.keys, g.timeRange());
+    const PartAsInstance asInstance(g, part);
+    const std::vector<Triangle>& tris = asInstance.tris;
+    const Scene& top = asInstance.top;
     BuildOptions o;
     o.kind = AccelKind::Brute;
     detail::BuildBudget budget(0);

@@ -12,58 +12,17 @@
 #include <random>
 
 #include "bvh/leaf_intersect.h"
+#include "leaf_test_grid.h"
 #include "scene/scene_context.h"
 #include "test_util.h"
 
 namespace mbrt {
 namespace {
 
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-void expectSameHit(const Hit& a, const Hit& b, const std::string& what) {
-  EXPECT_TRUE(sameBits(a.t, b.t) && sameBits(a.u, b.u) && sameBits(a.v, b.v)) << what;
-  EXPECT_TRUE(sameBits(a.Ng.x, b.Ng.x) && sameBits(a.Ng.y, b.Ng.y) && sameBits(a.Ng.z, b.Ng.z)) << what;
-  EXPECT_EQ(a.geomID, b.geomID) << what;
-  EXPECT_EQ(a.primID, b.primID) << what;
-}
-
-// A grid of 2 * n * n triangles in the plane z = zOffset (shared edges),
-// each triangle twice (ties), moving along x over `steps` steps.
-uint32_t addGrid(Scene& scene, int n, float scale, float zOffset, uint32_t steps) {
-  std::vector<Triangle> tris;
-  std::vector<std::vector<Vec3f>> pos(steps);
-  for (uint32_t s = 0; s < steps; ++s)
-    for (int y = 0; y <= n; ++y)
-      for (int x = 0; x <= n; ++x)
-        pos[s].push_back(Vec3f{float(x) / float(n) * 2 - 1 + 0.1f * float(s), float(y) / float(n) * 2 - 1,
-                               zOffset} * scale);
-  const auto at = [n](int x, int y) { return uint32_t(y * (n + 1) + x); };
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x)
-      for (int copy = 0; copy < 2; ++copy) {
-        tris.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1)});
-        tris.push_back({at(x, y), at(x + 1, y + 1), at(x, y + 1)});
-      }
-  return scene.addTriangleMesh(std::move(tris), std::move(pos));
-}
-
-// A ray towards a vertex of triangle `prim` (through shared edges and
-// corners) or a random point of it, from a random origin above the grid.
-detail::RayQuery rayTowards(std::mt19937& rng, const Geometry& g, uint32_t prim, float scale, float time) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f), w(0.0f, 1.0f);
-  const Triangle& tri = g.triangles()[prim];
-  const Vec3f v0 = g.vertexAt(time, tri.v0), v1 = g.vertexAt(time, tri.v1), v2 = g.vertexAt(time, tri.v2);
-  Vec3f target = v0;
-  if (rng() % 2) {
-    const float a = w(rng), b = w(rng) * (1 - a);
-    target = v0 + (v1 - v0) * a + (v2 - v0) * b;
-  }
-  Ray r;
-  r.org = target + Vec3f{u(rng), u(rng), 2 + u(rng)} * scale;
-  r.dir = target - r.org;
-  r.time = time;
-  return detail::RayQuery(r);
-}
+using test::addGrid;
+using test::expectSameHit;
+using test::rayTowards;
+using test::sameBits;
 
 void checkLeaves(const Scene& scene, float scale, bool stored) {
   BuildOptions o;

@@ -119,17 +119,8 @@ template <class Ref, class OnHit>
     }
     TriangleHit th;
     if (!res.accept(lane, ray, th)) continue;
-    const Vec3f v0 = tri.vertex(0, lane), v1 = tri.vertex(1, lane), v2 = tri.vertex(2, lane);
-    const PrimRef p = ref(lane);
-    Hit h;
-    h.t = th.t;
-    h.u = th.u;
-    h.v = th.v;
-    h.Ng = cross(v1 - v0, v2 - v0);
-    h.geomID = p.geomID;
-    h.primID = p.primID;
-    h.instID = kInvalidId;
-    if (onHit(h)) return true;
+    if (onHit(leaf_run::triangleHit(ref(lane), th, tri.vertex(0, lane), tri.vertex(1, lane), tri.vertex(2, lane))))
+      return true;
   }
   return false;
 }

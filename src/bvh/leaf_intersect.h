@@ -47,11 +47,9 @@ struct VerticesAt {
   [[gnu::always_inline]] Vec3f operator[](uint32_t i) const { return v1 ? lerp((*v0)[i], (*v1)[i], f) : (*v0)[i]; }
 };
 
-// One triangle's candidate hit, as intersectPrimitive finds it.
-template <class OnHit>
-inline bool testOneTriangle(PrimRef ref, Vec3f v0, Vec3f v1, Vec3f v2, RayQuery& ray, OnHit&& onHit) {
-  TriangleHit th;
-  if (!intersectTriangle(ray, v0, v1, v2, th)) return false;
+// The hit of triangle `ref` (vertices v0, v1, v2) the triangle test found,
+// as intersectPrimitive reports it.
+inline Hit triangleHit(PrimRef ref, const TriangleHit& th, Vec3f v0, Vec3f v1, Vec3f v2) {
   Hit h;
   h.t = th.t;
   h.u = th.u;
@@ -60,7 +58,15 @@ inline bool testOneTriangle(PrimRef ref, Vec3f v0, Vec3f v1, Vec3f v2, RayQuery&
   h.geomID = ref.geomID;
   h.primID = ref.primID;
   h.instID = kInvalidId;
-  return onHit(h);
+  return h;
+}
+
+// One triangle's candidate hit, as intersectPrimitive finds it.
+template <class OnHit>
+inline bool testOneTriangle(PrimRef ref, Vec3f v0, Vec3f v1, Vec3f v2, RayQuery& ray, OnHit&& onHit) {
+  TriangleHit th;
+  if (!intersectTriangle(ray, v0, v1, v2, th)) return false;
+  return onHit(triangleHit(ref, th, v0, v1, v2));
 }
 
 // Where a run's triangle vertices come from: through the triangle's
