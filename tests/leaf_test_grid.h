@@ -7,10 +7,13 @@
 
 #include <cstring>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "core/ray_query.h"
+#include "scene/primitive_intersect.h"
+#include "scene/scene_context.h"
 #include "mbrt/ray.h"
 #include "mbrt/scene.h"
 
@@ -72,6 +75,32 @@ inline detail::RayQuery rayTowards(std::mt19937& rng, const Geometry& g, uint32_
   r.dir = target - r.org;
   r.time = time;
   return detail::RayQuery(r);
+}
+
+// A mask that leaves out some geometries of the grids (masks 1, 2, 3), and
+// on every third trial a tfar that may end before the hit.
+inline void varyMaskAndTfar(std::mt19937& rng, int trial, detail::RayQuery& ray) {
+  const uint32_t masks[] = {~0u, 1u, 2u, 4u};
+  ray.mask = masks[rng() % 4];
+  if (trial % 3 == 0) ray.tfar = std::uniform_real_distribution<float>(0.5f, 1.0f)(rng);
+}
+
+// What testing a leaf's references one by one finds, the oracle of the
+// leaf tests: intersectPrimitive on each in order (the closest hit and the
+// tfar it leaves) and occludedPrimitive on each.
+struct OneByOne {
+  bool found = false, occluded = false;
+  Hit hit;
+  detail::RayQuery ray;
+};
+inline OneByOne oneByOne(const detail::SceneContext& ctx, std::span<const detail::PrimRef> prims,
+                         const detail::RayQuery& ray) {
+  OneByOne out{false, false, Hit(), ray};
+  for (const detail::PrimRef& p : prims) {
+    out.found |= detail::intersectPrimitive(ctx, p, out.ray, out.hit);
+    out.occluded = out.occluded || detail::occludedPrimitive(ctx, p, ray);
+  }
+  return out;
 }
 
 }  // namespace mbrt::test

@@ -26,10 +26,7 @@
 namespace mbrt {
 namespace {
 
-using test::addGrid;
-using test::expectSameHit;
-using test::rayTowards;
-using test::sameBits;
+using namespace test;  // leaf_test_grid.h
 
 // intersectTriangleBlock<4> lane by lane against intersectTriangle; the
 // lanes it hands to the scalar test are those with an edge function
@@ -126,16 +123,13 @@ void checkBlockedLeaves(Scene& scene, float scale) {
     ASSERT_EQ(blocks.blocks.size(), (count + 3) / 4);
     const detail::PrimRef aim = bvh.prims[rng() % count];
     detail::RayQuery ray = rayTowards(rng, ctx.geometry(aim.geomID), aim.primID, scale, time);
-    const uint32_t masks[] = {~0u, 1u, 2u, 4u};
-    ray.mask = masks[rng() % 4];
-    if (trial % 3 == 0) ray.tfar = std::uniform_real_distribution<float>(0.5f, 1.0f)(rng);
-    detail::RayQuery one = ray, leaf = ray, blocked = ray, anyLeaf = ray, anyBlocked = ray;
-    Hit expected, viaLeaf, got;
-    bool found = false, occluded = false;
-    for (const detail::PrimRef& p : bvh.prims) {
-      found |= detail::intersectPrimitive(ctx, p, one, expected);
-      occluded = occluded || detail::occludedPrimitive(ctx, p, ray);
-    }
+    test::varyMaskAndTfar(rng, trial, ray);
+    detail::RayQuery leaf = ray, blocked = ray, anyLeaf = ray, anyBlocked = ray;
+    Hit viaLeaf, got;
+    const test::OneByOne reference = test::oneByOne(ctx, bvh.prims, ray);
+    const bool found = reference.found, occluded = reference.occluded;
+    const Hit& expected = reference.hit;
+    const detail::RayQuery& one = reference.ray;
     const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(count) + " references";
     ASSERT_EQ(detail::intersectLeaf<true>(ctx, bvh.prims.data(), count, leaf, viaLeaf, nullptr, &fixed), found);
     ASSERT_EQ(detail::leaf_block::intersectBlocks(b, count, blocked, detail::BlockRay<4>(ray), got), found) << what;
@@ -223,16 +217,13 @@ TEST(LeafBlocks, MotionBlocksAgreeWithTheOneByOneTest) {
     const float scale = geomID == 3 ? 1e13f : 1.0f;
     detail::RayQuery ray = rayTowards(rng, g, aim.primID, scale, g.timeRange().contains(time) ? time : 0.5f);
     ray.time = time;
-    const uint32_t masks[] = {~0u, 1u, 2u, 4u};
-    ray.mask = masks[rng() % 4];
-    if (trial % 3 == 0) ray.tfar = std::uniform_real_distribution<float>(0.5f, 1.0f)(rng);
-    detail::RayQuery one = ray, viaLeaf = ray, viaBlocks = ray, anyLeaf = ray, anyBlocks = ray;
-    Hit expected, leafHit, got;
-    bool found = false, occluded = false;
-    for (const detail::PrimRef& p : bvh.prims) {
-      found |= detail::intersectPrimitive(ctx, p, one, expected);
-      occluded = occluded || detail::occludedPrimitive(ctx, p, ray);
-    }
+    test::varyMaskAndTfar(rng, trial, ray);
+    detail::RayQuery viaLeaf = ray, viaBlocks = ray, anyLeaf = ray, anyBlocks = ray;
+    Hit leafHit, got;
+    const test::OneByOne reference = test::oneByOne(ctx, bvh.prims, ray);
+    const bool found = reference.found, occluded = reference.occluded;
+    const Hit& expected = reference.hit;
+    const detail::RayQuery& one = reference.ray;
     const detail::BlockRay<4> r(ray);
     const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(count) + " references";
     ASSERT_EQ(detail::intersectLeaf(ctx, bvh.prims.data(), count, viaLeaf, leafHit, nullptr), found) << what;

@@ -19,10 +19,7 @@
 namespace mbrt {
 namespace {
 
-using test::addGrid;
-using test::expectSameHit;
-using test::rayTowards;
-using test::sameBits;
+using namespace test;  // leaf_test_grid.h
 
 void checkLeaves(const Scene& scene, float scale, bool stored) {
   BuildOptions o;

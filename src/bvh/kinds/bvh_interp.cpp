@@ -30,7 +30,7 @@ class BvhInterp final : public WideBvhStructure<N, true> {
       all += g.numPrimitives();
       if (g.type() == GeometryType::Triangles && !g.hasFilter()) triangles += g.numPrimitives();
     }
-    return 4 * triangles >= 3 * all ? kLeafBlockWidth : 1;
+    return leafBlockWidth(triangles, all);
   }
 
   void fillStats(AccelStats& s) const override {

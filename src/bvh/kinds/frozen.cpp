@@ -33,7 +33,9 @@ class Frozen final : public WideBvhStructure<N, false> {
   explicit Frozen(const SceneContext& ctx) : Base(ctx, ctx.options().frozenTime), time_(ctx.options().frozenTime) {
     const std::vector<PrimRef> prims = ctx.primitives();
     Base::stored_ = FixedTimeTriangles(ctx, time_);
-    const int leafBlock = leafBlockFor(prims.size());
+    // Leaves charged per block of four (Embree's Triangle4 SAH) and laid
+    // out as blocks (leaf_blocks.h) when most primitives are stored triangles.
+    const int leafBlock = leafBlockWidth(Base::stored_.vertices.size() / 3, prims.size());
     buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_, nullptr, true, leafBlock);
     Base::blocks_ = TriangleLeafBlocks(ctx, bvh_, Base::stored_, time_);
     if (leafBlock > 1) {
@@ -44,17 +46,6 @@ class Frozen final : public WideBvhStructure<N, false> {
       ctx.budget().release(Base::stored_.vertices.size() * sizeof(Vec3f));
       Base::stored_ = FixedTimeTriangles();
     }
-  }
-
-  // Leaves charged per block of four (Embree's Triangle4 SAH) and laid out
-  // as blocks (leaf_blocks.h) when at least 3/4 of the primitives are
-  // stored triangles; else per reference: segments, instances and filtered
-  // triangles are tested one by one, and larger leaves of them only cost
-  // (`hair`, segments, in the quick bench: 1.58 -> 11.4 primitive tests
-  // per ray).
-  int leafBlockFor(size_t primitives) const {
-    const size_t triangles = Base::stored_.vertices.size() / 3;
-    return 4 * triangles >= 3 * primitives ? kLeafBlockWidth : 1;
   }
 
   void fillStats(AccelStats& s) const override {
