@@ -83,20 +83,33 @@ TEST(LeafBlocks, BlockLanesAgreeWithTheScalarTest) {
   EXPECT_GT(scalarLanes, 100);
 }
 
-// One leaf of `count` references, as the builder stores it (sorted by
-// geometry, then primitive), in a one-node tree.
+// Leaves as the builder stores them (each sorted by geometry, then
+// primitive) in a one-node tree, laid out as layOut does for blocks: each
+// leaf starts at a multiple of four in the table, the gaps repeating its
+// last reference.
 template <bool Motion = false>
-detail::WideBvh<8, Motion> oneLeaf(std::vector<detail::PrimRef> refs) {
-  std::sort(refs.begin(), refs.end(), [](detail::PrimRef a, detail::PrimRef b) {
-    return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
-  });
+detail::WideBvh<8, Motion> leavesOf(std::vector<std::vector<detail::PrimRef>> leaves) {
   detail::WideBvh<8, Motion> bvh;
   bvh.nodes.resize(1);
   bvh.nodes[0].clear();
-  bvh.nodes[0].count[0] = uint8_t(refs.size());
-  bvh.nodes[0].child[0] = 0;
-  bvh.prims = std::move(refs);
+  for (size_t lane = 0; lane < leaves.size(); ++lane) {
+    std::vector<detail::PrimRef>& refs = leaves[lane];
+    std::sort(refs.begin(), refs.end(), [](detail::PrimRef a, detail::PrimRef b) {
+      return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
+    });
+    bvh.nodes[0].count[lane] = uint8_t(refs.size());
+    bvh.nodes[0].child[lane] = uint32_t(bvh.prims.size());
+    bvh.prims.insert(bvh.prims.end(), refs.begin(), refs.end());
+    while (bvh.prims.size() % 4 != 0) {
+      bvh.prims.push_back(refs.back());
+      ++bvh.paddingRefs;
+    }
+  }
   return bvh;
+}
+template <bool Motion = false>
+detail::WideBvh<8, Motion> oneLeaf(std::vector<detail::PrimRef> refs) {
+  return leavesOf<Motion>({std::move(refs)});
 }
 
 // Leaves of 1 to 13 references drawn from the grids (several geometries
@@ -126,7 +139,7 @@ void checkBlockedLeaves(Scene& scene, float scale) {
     test::varyMaskAndTfar(rng, trial, ray);
     detail::RayQuery leaf = ray, blocked = ray, anyLeaf = ray, anyBlocked = ray;
     Hit viaLeaf, got;
-    const test::OneByOne reference = test::oneByOne(ctx, bvh.prims, ray);
+    const test::OneByOne reference = test::oneByOne(ctx, std::span(bvh.prims).first(count), ray);
     const bool found = reference.found, occluded = reference.occluded;
     const Hit& expected = reference.hit;
     const detail::RayQuery& one = reference.ray;
@@ -181,6 +194,21 @@ TEST(LeafBlocks, LeavesWithFiltersAreNotBlocked) {
   const detail::TriangleLeafBlocks plain(ctx, oneLeaf({{0, 0}, {0, 1}, {0, 2}, {0, 3}, {0, 4}}), fixed, 0.0f);
   ASSERT_NE(plain.of(0), nullptr);
   EXPECT_EQ(plain.blocks.size(), 2u);
+  // Beside a blocked leaf, a leaf with a filtered geometry is tested one by
+  // one: its block is marked, the other leaf's blocks are found.
+  const detail::TriangleLeafBlocks both(
+      ctx, leavesOf({{{0, 0}, {0, 1}, {0, 2}, {0, 3}, {0, 4}}, {{0, 5}, {filtered, 0}}, {{0, 6}}}), fixed, 0.0f);
+  ASSERT_EQ(both.blocks.size(), 4u);
+  ASSERT_NE(both.of(0), nullptr);
+  EXPECT_EQ(both.of(0)[1].primID[0], 4u);
+  EXPECT_EQ(both.of(8), nullptr);
+  ASSERT_NE(both.of(12), nullptr);
+  EXPECT_EQ(both.of(12)->primID[0], 6u);
+  // A table whose leaves do not start at multiples of four gets no blocks.
+  detail::WideBvh<8, false> unaligned = oneLeaf({{0, 0}, {0, 1}, {0, 2}, {0, 3}});
+  unaligned.nodes[0].count[1] = 2;
+  unaligned.nodes[0].child[1] = 1;
+  EXPECT_TRUE(detail::TriangleLeafBlocks(ctx, unaligned, fixed, 0.0f).empty());
 }
 
 // Motion blocks: leaves of 1 to 13 references of one geometry, at random
@@ -220,7 +248,7 @@ TEST(LeafBlocks, MotionBlocksAgreeWithTheOneByOneTest) {
     test::varyMaskAndTfar(rng, trial, ray);
     detail::RayQuery viaLeaf = ray, viaBlocks = ray, anyLeaf = ray, anyBlocks = ray;
     Hit leafHit, got;
-    const test::OneByOne reference = test::oneByOne(ctx, bvh.prims, ray);
+    const test::OneByOne reference = test::oneByOne(ctx, std::span(bvh.prims).first(count), ray);
     const bool found = reference.found, occluded = reference.occluded;
     const Hit& expected = reference.hit;
     const detail::RayQuery& one = reference.ray;
@@ -262,6 +290,21 @@ TEST(LeafBlocks, MixedOrFilteredMotionLeavesAreNotBlocked) {
   const detail::MotionLeafBlocks plain(ctx, oneLeaf<true>({{1, 0}, {1, 1}, {1, 2}, {1, 3}, {1, 4}}));
   ASSERT_NE(plain.of(0), nullptr);
   EXPECT_EQ(plain.blocks.size(), 4u);  // 2 blocks x 2 steps
+  // Leaves side by side: each blocked one found from its first reference,
+  // the mixed one tested one by one.
+  const detail::MotionLeafBlocks both(
+      ctx, leavesOf<true>({{{1, 0}, {1, 1}, {1, 2}, {1, 3}, {1, 4}}, {{0, 0}, {1, 5}}, {{0, 6}}}));
+  EXPECT_EQ(both.blocks.size(), 6u);  // (2 + 1) blocks x 2 steps
+  ASSERT_NE(both.of(0), nullptr);
+  EXPECT_EQ(both.of(0)->first, 0u);
+  EXPECT_EQ(both.of(8), nullptr);
+  ASSERT_NE(both.of(12), nullptr);
+  EXPECT_EQ(both.of(12)->geomID, 0u);
+  EXPECT_EQ(both.of(12)->first, 4u);
+  detail::WideBvh<8, true> unaligned = oneLeaf<true>({{1, 0}, {1, 1}, {1, 2}, {1, 3}});
+  unaligned.nodes[0].count[1] = 2;
+  unaligned.nodes[0].child[1] = 1;
+  EXPECT_TRUE(detail::MotionLeafBlocks(ctx, unaligned).empty());
 }
 
 // The trees whose SAH charges leaves per block keep leaves that fill

@@ -17,41 +17,48 @@
 
 namespace mbrt::detail {
 
+// Found as TriangleLeafBlocks finds its blocks: the tree is laid out with
+// leafBlock = kLeafBlockWidth (layOut), every leaf starting at a multiple of
+// four in the reference table, so the leaf at `begin` is leaves[begin / 4]
+// (one entry per four table entries, 3 bytes per reference), read from the
+// node with no map in between; geomID = kNone marks a slot without blocks.
 struct MotionLeafBlocks {
   static constexpr uint32_t kNone = 0xFFFFFFFFu;
   struct Leaf {
-    uint32_t geomID;
-    uint32_t steps;  // the geometry's vertex steps
-    uint32_t first;  // index in `blocks` of block 0 at step 0; block b at step k: first + b * steps + k
+    uint32_t geomID = kNone;
+    uint32_t steps = 0;  // the geometry's vertex steps
+    uint32_t first = 0;  // index in `blocks` of block 0 at step 0; block b at step k: first + b * steps + k
   };
-  std::vector<uint32_t> leafOf;  // per reference-table entry starting a blocked leaf: its index in `leaves`
-  std::vector<Leaf> leaves;
+  std::vector<Leaf> leaves;  // per four entries of the reference table
   std::vector<TriangleBlock<kLeafBlockWidth>> blocks;
 
   MotionLeafBlocks() = default;
   // The blocks of every leaf of `bvh` in the reference table whose
-  // references are all triangles of one geometry without a filter.
+  // references are all triangles of one geometry without a filter; none
+  // when the tree is not laid out in blocks of four.
   template <int N>
   MotionLeafBlocks(const SceneContext& ctx, const WideBvh<N, true>& bvh) {
     constexpr uint32_t W = kLeafBlockWidth;
-    size_t count = 0, numLeaves = 0;
-    forEachLeaf(ctx, bvh, [&](uint32_t, uint32_t n, const Geometry& g) {
-      count += (n + W - 1) / W * g.numSteps();
-      ++numLeaves;
+    if (bvh.prims.size() % W != 0 || bvh.inlineRefs != 0) return;
+    size_t count = 0;
+    bool aligned = true;
+    forEachLeaf(ctx, bvh, [&](uint32_t begin, uint32_t n, const Geometry* g) {
+      aligned = aligned && begin % W == 0;
+      if (g) count += (n + W - 1) / W * g->numSteps();
     });
-    if (count == 0 || count >= kNone) return;
-    ctx.budget().charge(bytesFor(bvh.prims.size(), numLeaves, count), "the motion tree's leaf blocks");
-    leafOf.assign(bvh.prims.size(), kNone);
-    leaves.reserve(numLeaves);
+    if (!aligned || count == 0 || count >= kNone) return;
+    const size_t slots = bvh.prims.size() / W;
+    ctx.budget().charge(bytesFor(slots, count), "the motion tree's leaf blocks");
+    leaves.resize(slots);
     blocks.resize(count);
     uint32_t next = 0;
-    forEachLeaf(ctx, bvh, [&](uint32_t begin, uint32_t n, const Geometry& g) {
-      leafOf[begin] = uint32_t(leaves.size());
-      leaves.push_back({bvh.prims[begin].geomID, g.numSteps(), next});
-      const std::span<const Triangle> tris = g.triangles();
+    forEachLeaf(ctx, bvh, [&](uint32_t begin, uint32_t n, const Geometry* g) {
+      if (!g) return;
+      leaves[begin / W] = {bvh.prims[begin].geomID, g->numSteps(), next};
+      const std::span<const Triangle> tris = g->triangles();
       for (uint32_t i = 0; i < n; i += W)
-        for (uint32_t k = 0; k < g.numSteps(); ++k, ++next) {
-          const VertexBuffer& v = g.vertices(k);
+        for (uint32_t k = 0; k < g->numSteps(); ++k, ++next) {
+          const VertexBuffer& v = g->vertices(k);
           for (uint32_t lane = 0; lane < W; ++lane) {
             // Lanes past the leaf's end repeat its last triangle (never tested).
             const Triangle& t = tris[bvh.prims[begin + std::min(i + lane, n - 1)].primID];
@@ -61,18 +68,21 @@ struct MotionLeafBlocks {
     });
   }
 
-  bool empty() const { return leaves.empty(); }
+  bool empty() const { return blocks.empty(); }
   // The blocked leaf at reference `begin`, or null.
   const Leaf* of(uint32_t begin) const {
-    const uint32_t l = leafOf[begin];
-    return l == kNone ? nullptr : &leaves[l];
+    const Leaf* l = &leaves[begin / kLeafBlockWidth];
+    return l->geomID == kNone ? nullptr : l;
   }
-  size_t bytes() const { return bytesFor(leafOf.size(), leaves.size(), blocks.size()); }
+  size_t bytes() const { return bytesFor(leaves.size(), blocks.size()); }
 
  private:
-  static size_t bytesFor(size_t refs, size_t numLeaves, size_t numBlocks) {
-    return refs * sizeof(uint32_t) + numLeaves * sizeof(Leaf) + numBlocks * sizeof(TriangleBlock<kLeafBlockWidth>);
+  static size_t bytesFor(size_t slots, size_t numBlocks) {
+    return slots * sizeof(Leaf) + numBlocks * sizeof(TriangleBlock<kLeafBlockWidth>);
   }
+  // fn(first reference, count, geometry) for each leaf in the reference
+  // table; the geometry is null unless all its references are triangles of
+  // that one geometry without a filter.
   template <int N, class Fn>
   static void forEachLeaf(const SceneContext& ctx, const WideBvh<N, true>& bvh, Fn&& fn) {
     for (const auto& node : bvh.nodes)
@@ -81,10 +91,9 @@ struct MotionLeafBlocks {
         const uint32_t begin = node.child[lane], n = node.count[lane];
         const uint32_t geomID = bvh.prims[begin].geomID;
         const Geometry& g = ctx.geometry(geomID);
-        if (g.type() != GeometryType::Triangles || g.hasFilter()) continue;
-        bool one = true;
-        for (uint32_t i = begin; i < begin + n; ++i) one = one && bvh.prims[i].geomID == geomID;
-        if (one) fn(begin, n, g);
+        bool one = g.type() == GeometryType::Triangles && !g.hasFilter();
+        for (uint32_t i = begin; one && i < begin + n; ++i) one = bvh.prims[i].geomID == geomID;
+        fn(begin, n, one ? &g : nullptr);
       }
   }
 };

@@ -261,7 +261,7 @@ void buildWideTree(std::span<BuildRef> refs, const BuildSettings& settings, Buil
   if (refs.empty()) return;
   UnorderedWideBvh<N, Motion> tree(budget);
   tree.root = Driver<N, Motion>(settings, tree, budget).buildRoot(refs);
-  layOut(tree, out, budget, settings.leafBlock <= 1);
+  layOut(tree, out, budget, settings.leafBlock);
 }
 
 #define MBRT_BUILD_WIDE_TREE(N, Motion) \

@@ -10,8 +10,8 @@ namespace {
 template <int N, bool Motion>
 class Layout {
  public:
-  Layout(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, bool inlineLeaves)
-      : tree_(tree), out_(out), inline_(inlineLeaves) {}
+  Layout(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, int leafBlock)
+      : tree_(tree), out_(out), inline_(leafBlock <= 1), align_(size_t(std::max(leafBlock, 1))) {}
 
   uint32_t emit(uint32_t id, uint32_t depth) {
     const uint32_t index = uint32_t(out_.nodes.size());
@@ -38,6 +38,7 @@ class Layout {
         }
         out_.nodes[index].child[i] = uint32_t(out_.prims.size());
         out_.prims.insert(out_.prims.end(), first, first + from.count[i]);
+        pad(out_.prims.back());
       } else if (!from.isEmpty(i)) {
         const uint32_t child = emit(from.child[i], depth + 1);
         out_.nodes[index].child[i] = child;
@@ -65,29 +66,51 @@ class Layout {
     return best;
   }
 
+  // Fills the table up to the next multiple of the block width with `ref`.
+  void pad(const PrimRef& ref) {
+    while (out_.prims.size() % align_ != 0) {
+      out_.prims.push_back(ref);
+      ++out_.paddingRefs;
+    }
+  }
+
   const UnorderedWideBvh<N, Motion>& tree_;
   WideBvh<N, Motion>& out_;
   bool inline_;
+  size_t align_;
 };
+
+// The reference table's size once every leaf is padded to a multiple of
+// `align` references.
+template <int N, bool Motion>
+size_t paddedTableSize(const UnorderedWideBvh<N, Motion>& tree, size_t align) {
+  if (align <= 1) return tree.prims.size();
+  size_t total = 0;
+  for (const auto& node : tree.nodes)
+    for (int i = 0; i < N; ++i)
+      if (node.isLeaf(i)) total += (size_t(node.count[i]) + align - 1) / align * align;
+  return total;
+}
 
 }  // namespace
 
 template <int N, bool Motion>
 void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget,
-            bool inlineLeaves) {
+            int leafBlock) {
   out = WideBvh<N, Motion>();
   if (tree.root == tree.kNone) return;
-  budget.charge(tree.nodes.size() * sizeof(WideNode<N, Motion>) + tree.prims.size() * sizeof(PrimRef) +
+  const size_t tableSize = paddedTableSize(tree, size_t(std::max(leafBlock, 1)));
+  budget.charge(tree.nodes.size() * sizeof(WideNode<N, Motion>) + tableSize * sizeof(PrimRef) +
                     tree.times.size() * sizeof(LaneTimes<N>),
                 "the BVH nodes");
   out.nodes.reserve(tree.nodes.size());
   out.times.reserve(tree.times.size());
-  out.prims.reserve(tree.prims.size());
-  Layout<N, Motion>(tree, out, inlineLeaves).emit(tree.root, 1);
+  out.prims.reserve(tableSize);
+  Layout<N, Motion>(tree, out, leafBlock).emit(tree.root, 1);
 }
 
 #define MBRT_LAY_OUT(N, Motion) \
-  template void layOut<N, Motion>(const UnorderedWideBvh<N, Motion>&, WideBvh<N, Motion>&, BuildBudget&, bool);
+  template void layOut<N, Motion>(const UnorderedWideBvh<N, Motion>&, WideBvh<N, Motion>&, BuildBudget&, int);
 MBRT_LAY_OUT(2, true)
 MBRT_LAY_OUT(4, true)
 MBRT_LAY_OUT(8, true)

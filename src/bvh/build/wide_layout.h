@@ -36,11 +36,15 @@ struct UnorderedWideBvh {
 };
 
 // Lays `tree` out into `out` (replaced) from its root; charges `out`'s
-// storage to `budget`. `inlineLeaves`: one-reference leaves are kept in
-// their node (kInlineLeaf); off for trees whose leaves are all tested from
-// leaf blocks (BuildSettings::leafBlock > 1), which index the table.
+// storage to `budget`. leafBlock <= 1: one-reference leaves are kept in
+// their node (kInlineLeaf). leafBlock > 1 (trees whose leaves are tested as
+// blocks, BuildSettings::leafBlock): no leaf is kept in a node, and every
+// leaf starts at a multiple of leafBlock in the reference table (the gaps
+// repeat the leaf's last reference; WideBvh::paddingRefs counts them), so
+// that the leaf's k-th block is the table's block begin / leafBlock + k and
+// traversal reaches it without a map (leaf_blocks.h).
 template <int N, bool Motion>
 void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget,
-            bool inlineLeaves = true);
+            int leafBlock = 1);
 
 }  // namespace mbrt::detail

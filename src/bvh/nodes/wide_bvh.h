@@ -21,9 +21,10 @@ struct WideBvh {
   uint32_t depth = 0;       // wide nodes on the longest root-to-leaf path
   uint32_t stackSize = 1;   // traversal stack entries the tree can need
   size_t inlineRefs = 0;    // references kept in nodes, not in `prims`
+  size_t paddingRefs = 0;   // entries of `prims` that only align leaves to blocks (layOut)
 
   bool empty() const { return nodes.empty(); }
-  size_t numReferences() const { return prims.size() + inlineRefs; }
+  size_t numReferences() const { return prims.size() - paddingRefs + inlineRefs; }
   // The references of leaf lane `lane` of `node` (an inline one is made in `one`).
   std::span<const PrimRef> leafRefs(const Node& node, int lane, PrimRef& one) const {
     if (node.count[lane] == kInlineLeaf) {
