@@ -324,7 +324,7 @@ TEST(LeafBlocks, BlockTreesFillBlocksAndAgreeWithBrute) {
       auto tested = Accel::build(*ps.scene, to);
       const AccelStats st = tested->stats();
       EXPECT_GT(double(st.references) / double(st.leafNodes), 2.0) << name;
-      const auto rep = test::compareWithOracle(*oracle, *tested, test::oracleRays(ps, 2000, 0, 17, t));
+      const auto rep = test::compareWithOracle(*oracle, *tested, test::oracleRays(ps, test::scaled(2000, 500), 0, 17, t));
       EXPECT_EQ(rep.wrong, 0u) << name << " frozen@" << t << ": " << rep.firstFailure;
       EXPECT_EQ(rep.anyWrong, 0u) << name << " frozen@" << t;
       EXPECT_GT(rep.hits, rep.rays / 4) << "too few hits to mean anything";
@@ -334,7 +334,7 @@ TEST(LeafBlocks, BlockTreesFillBlocksAndAgreeWithBrute) {
     auto motion = Accel::build(*ps.scene, mo);
     const AccelStats st = motion->stats();
     EXPECT_GT(double(st.references) / double(st.leafNodes), 2.0) << name;
-    const auto rep = test::compareWithOracle(*oracle, *motion, test::oracleRays(ps, 2000, 20, 19));
+    const auto rep = test::compareWithOracle(*oracle, *motion, test::oracleRays(ps, test::scaled(2000, 500), test::scaled(20, 5), 19));
     EXPECT_EQ(rep.wrong, 0u) << name << " bvh-interp: " << rep.firstFailure;
     EXPECT_EQ(rep.anyWrong, 0u) << name << " bvh-interp";
     EXPECT_GT(rep.hits, rep.rays / 4) << "too few hits to mean anything";
