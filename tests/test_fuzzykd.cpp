@@ -180,6 +180,9 @@ struct Table1 {
 };
 
 Table1 table1(const Scene& scene, const char* name, size_t raysPerFrame, size_t maxFrames) {
+  // Fewer frames and rays under sanitizers (MBRT_TEST_SCALE): a static tree per frame.
+  raysPerFrame = test::scaled(raysPerFrame, 200);
+  maxFrames = test::scaled(maxFrames, 3);
   Table1 t;
   detail::BuildBudget budget;
   BuildOptions o;
