@@ -38,7 +38,7 @@ struct RayQuery {
     if (d[kz] < 0.0f) std::swap(kx, ky);
     Sx = d[kx] / d[kz];
     Sy = d[ky] / d[kz];
-    Sz = 1.0f / d[kz];
+    Sz = rdir[kz];  // the same 1 / d[kz], not divided twice
   }
 
   Ray toRay() const { return Ray{org, tnear, dir, tfar, time, mask}; }

@@ -4,6 +4,7 @@
 // primitives they test, never in how.
 #pragma once
 
+#include "scene/instance_space.h"
 #include "scene/scene_context.h"
 #include "geometry/segment_intersect.h"
 #include "geometry/triangle_intersect.h"
@@ -52,16 +53,6 @@ inline bool candidate(const Geometry& g, PrimRef ref, const RayQuery& ray, Hit& 
   return true;
 }
 
-// The ray in the instance's space at the ray's time; false when the
-// interpolated matrix is singular there (the instance is flat: no hit).
-inline bool toInstanceSpace(const Geometry& g, const RayQuery& ray, RayQuery& local, Affine3f& inverse) {
-  const Affine3f xfm = g.transformAt(ray.time);
-  if (!(std::fabs(xfm.determinant()) > 1e-30f)) return false;
-  inverse = xfm.inverse();
-  local.setup(inverse.xfmPoint(ray.org), inverse.xfmVector(ray.dir), ray.tnear, ray.tfar, ray.time, ray.mask);
-  return true;
-}
-
 }  // namespace leaf_detail
 
 // Closest-hit test of one primitive. On an accepted hit closer than
@@ -72,15 +63,14 @@ inline bool intersectPrimitive(const SceneContext& ctx, PrimRef ref, RayQuery& r
   if ((g.mask() & ray.mask) == 0 || !g.timeRange().contains(ray.time)) return false;
   if (g.type() == GeometryType::Instance) {
     RayQuery local;
-    Affine3f inv;
-    if (!leaf_detail::toInstanceSpace(g, ray, local, inv)) return false;
+    InstanceFrame frame;
+    if (!toInstanceSpace(g, ray, local, frame)) return false;
     local.instID = ray.instID;
     Hit h;
     const Structure& child = ctx.child(ref.geomID);
     const bool found = counters ? child.intersectCounted(local, h, *counters) : child.intersect(local, h);
     if (!found) return false;
-    const Vec3f n = h.Ng;
-    h.Ng = {dot(inv.vx, n), dot(inv.vy, n), dot(inv.vz, n)};  // inverse transpose
+    h.Ng = frame.normalToWorld(h.Ng);
     h.instID = ref.geomID;
     hit = h;
     ray.tfar = h.t;
@@ -99,8 +89,8 @@ inline bool occludedPrimitive(const SceneContext& ctx, PrimRef ref, const RayQue
   if ((g.mask() & ray.mask) == 0 || !g.timeRange().contains(ray.time)) return false;
   if (g.type() == GeometryType::Instance) {
     RayQuery local;
-    Affine3f inv;
-    if (!leaf_detail::toInstanceSpace(g, ray, local, inv)) return false;
+    InstanceFrame frame;
+    if (!toInstanceSpace(g, ray, local, frame)) return false;
     return ctx.child(ref.geomID).occluded(local);
   }
   Hit h;
