@@ -1,6 +1,6 @@
 // A ray through one cluster (Günther et al. 2006 §3): the cluster's world
 // box at the ray's time first, then the ray in the cluster's local frame
-// (the inverse of the map interpolated at its time) down the cluster's
+// (scene/instance_space.h, the map interpolated at its time) down the cluster's
 // fuzzy tree; leaf triangles are tested in world space at the ray's time
 // (scene/primitive_intersect.h), so a hit shortens the world ray and the
 // local one alike (same parameter t).
@@ -8,6 +8,7 @@
 
 #include "fuzzykd/cluster.h"
 #include "kd/kd_traverse.h"
+#include "scene/instance_space.h"
 
 namespace mbrt::detail {
 
@@ -17,9 +18,9 @@ bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, H
   const Geometry& geo = ctx.geometry(c.geomID);
   if constexpr (Count) ++counters->boxTests;
   if (!rayHitsBox(ray, c.boxAt(geo, ray.time))) return false;
-  const Affine3f inv = c.mapAt(geo, ray.time).inverse();
   RayQuery local;
-  local.setup(inv.xfmPoint(ray.org), inv.xfmVector(ray.dir), ray.tnear, ray.tfar, ray.time, ray.mask);
+  InstanceFrame frame;  // unused: hits are found in world space
+  if (!toLocalSpace(c.mapAt(geo, ray.time), ray, local, frame)) return false;  // a flat map reaches nothing
   const FuzzyTree& tree = c.tree;
   KdMailbox mailbox;
   return kdWalk<AnyHit, Count>(tree, local, counters, [&](const KdNode& n) {

@@ -1,4 +1,4 @@
-// The ray in an instance's space at the ray's time, without forming the
+// The ray in an instance's space (or a fuzzy kd-tree cluster's frame) at the ray's time, without forming the
 // inverse matrix. For the interpolated key M = [L | p] with the columns
 // c0, c1, c2 of L, the rows of L^-1 are the cofactor rows c1×c2, c2×c0 and
 // c0×c1 divided by det L (Cramer's rule), so the local ray is
@@ -24,10 +24,10 @@ struct InstanceFrame {
   }
 };
 
-// Sets `local` to the ray in g's space at ray.time; false when the
-// interpolated matrix is singular there (the instance is flat: no hit).
-inline bool toInstanceSpace(const Geometry& g, const RayQuery& ray, RayQuery& local, InstanceFrame& frame) {
-  const Affine3f m = g.transformAt(ray.time);
+// Sets `local` to the ray in the space that m maps to world space (and
+// frame to what its hits need); false when m is singular (a flat instance:
+// no hit).
+inline bool toLocalSpace(const Affine3f& m, const RayQuery& ray, RayQuery& local, InstanceFrame& frame) {
   struct D3 {
     double x, y, z;
   };
@@ -49,6 +49,11 @@ inline bool toInstanceSpace(const Geometry& g, const RayQuery& ray, RayQuery& lo
   frame.cofactor[2] = {float(r2.x), float(r2.y), float(r2.z)};
   frame.invDet = float(inv);
   return true;
+}
+
+// The ray in instance g's space at the ray's time (its keys interpolated).
+inline bool toInstanceSpace(const Geometry& g, const RayQuery& ray, RayQuery& local, InstanceFrame& frame) {
+  return toLocalSpace(g.transformAt(ray.time), ray, local, frame);
 }
 
 }  // namespace mbrt::detail
