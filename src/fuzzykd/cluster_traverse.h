@@ -1,8 +1,8 @@
-// A ray through one cluster (Günther et al. 2006 §3): the cluster's world
-// box at the ray's time first, then the ray in the cluster's local frame
-// (scene/instance_space.h, the map interpolated at its time) down the cluster's
-// fuzzy tree; leaf triangles are tested in world space at the ray's time
-// (scene/primitive_intersect.h), so a hit shortens the world ray and the
+// A ray through one cluster (Günther et al. 2006 §3): the cluster's world box
+// at the ray's time first, then the ray in the cluster's local frame
+// (scene/instance_space.h, the map interpolated at its time) down the
+// cluster's fuzzy tree; leaf triangles are tested in world space at the ray's
+// time (scene/primitive_intersect.h), so a hit shortens the world ray and the
 // local one alike (same parameter t).
 #pragma once
 
@@ -19,8 +19,8 @@ bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, H
   if constexpr (Count) ++counters->boxTests;
   if (!rayHitsBox(ray, c.boxAt(geo, ray.time))) return false;
   RayQuery local;
-  InstanceFrame frame;  // unused: hits are found in world space
-  if (!toLocalSpace(c.mapAt(geo, ray.time), ray, local, frame)) return false;  // a flat map reaches nothing
+  // No frame: hits are found in world space. A flat map reaches nothing.
+  if (!toLocalSpace(c.mapAt(geo, ray.time), ray, local, nullptr)) return false;
   const FuzzyTree& tree = c.tree;
   KdMailbox mailbox;
   return kdWalk<AnyHit, Count>(tree, local, counters, [&](const KdNode& n) {

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "core/ray_query.h"
+#include "core/vec3d.h"
 
 namespace mbrt::detail {
 
@@ -22,16 +23,8 @@ struct SegmentHit {
 
 namespace segment_detail {
 
-struct Vec3w {
-  double x, y, z;
-};
-inline Vec3w operator+(Vec3w a, Vec3w b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3w operator-(Vec3w a, Vec3w b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3w operator-(Vec3w a) { return {-a.x, -a.y, -a.z}; }
-inline Vec3w operator*(Vec3w a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-inline double dot(Vec3w a, Vec3w b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3w widen(Vec3f v) { return {v.x, v.y, v.z}; }
-inline Vec3f narrow(Vec3w v) { return {float(v.x), float(v.y), float(v.z)}; }
+// The test below runs in float and, for its retry, in double (Vec3d).
+inline Vec3f narrow(Vec3d v) { return toF(v); }
 inline Vec3f narrow(Vec3f v) { return v; }
 
 // Entry distance of the line o + t*d (|d| = 1) into the solid; false if the
@@ -123,10 +116,10 @@ inline bool intersectSegment(const RayQuery& ray, Vec3f p0, Vec3f p1, float r0, 
     if (!throughSolid(ray.org, d, p0, p1, r0, r1, reach, tin, tout, u, uback, n, nback)) return false;
   } else {
     double tin64, tout64, u64, uback64;
-    Vec3w n64, nback64;
-    const Vec3w d64 = widen(ray.dir) * (1.0 / std::sqrt(dot(widen(ray.dir), widen(ray.dir))));
-    const double reach64 = 0.5 * std::sqrt(dot(widen(p1) - widen(p0), widen(p1) - widen(p0))) + std::max(r0, r1);
-    if (!throughSolid(widen(ray.org), d64, widen(p0), widen(p1), double(r0), double(r1), reach64, tin64, tout64,
+    Vec3d n64, nback64;
+    const Vec3d d64 = toD(ray.dir) * (1.0 / std::sqrt(dot(toD(ray.dir), toD(ray.dir))));
+    const double reach64 = 0.5 * std::sqrt(dot(toD(p1) - toD(p0), toD(p1) - toD(p0))) + std::max(r0, r1);
+    if (!throughSolid(toD(ray.org), d64, toD(p0), toD(p1), double(r0), double(r1), reach64, tin64, tout64,
                       u64, uback64, n64, nback64))
       return false;
     tin = float(tin64), tout = float(tout64), u = float(u64), uback = float(uback64);

@@ -64,7 +64,7 @@ inline bool intersectPrimitive(const SceneContext& ctx, PrimRef ref, RayQuery& r
   if (g.type() == GeometryType::Instance) {
     RayQuery local;
     InstanceFrame frame;
-    if (!toInstanceSpace(g, ray, local, frame)) return false;
+    if (!toInstanceSpace(g, ray, local, &frame)) return false;
     local.instID = ray.instID;
     Hit h;
     const Structure& child = ctx.child(ref.geomID);
@@ -89,8 +89,7 @@ inline bool occludedPrimitive(const SceneContext& ctx, PrimRef ref, const RayQue
   if ((g.mask() & ray.mask) == 0 || !g.timeRange().contains(ray.time)) return false;
   if (g.type() == GeometryType::Instance) {
     RayQuery local;
-    InstanceFrame frame;
-    if (!toInstanceSpace(g, ray, local, frame)) return false;
+    if (!toInstanceSpace(g, ray, local, nullptr)) return false;
     return ctx.child(ref.geomID).occluded(local);
   }
   Hit h;
