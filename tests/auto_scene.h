@@ -4,6 +4,7 @@
 // holds a rigid mesh itself.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -141,6 +142,48 @@ inline ProceduralScene autoTestScene(float noise = 0.0f, int n = 10) {
   ps.name = "auto-test";
   ps.scene = top;
   ps.camera = frameBox(Box3f({-1.1f, -1.1f, -1.1f}, {1.1f, 1.1f, 1.1f}));
+  return ps;
+}
+
+// A tube along x (rings x sides quads) bent at x = 0 by linear-blend
+// skinning: the right half turns about the z axis by up to `bend` radians
+// over `steps` vertex steps, the left stays, a band of width 0.3 around
+// the joint blends the two; the whole drifts along y. Near-rigid: two
+// clusters of coherent affine motion and a deforming joint (time range
+// [0.05, 0.95], mask 1).
+inline ProceduralScene bendingTubeScene(uint32_t rings = 48, uint32_t sides = 24, uint32_t steps = 6,
+                                        float bend = 1.2f) {
+  std::vector<Vec3f> rest;
+  std::vector<Triangle> tris;
+  for (uint32_t i = 0; i <= rings; ++i)
+    for (uint32_t j = 0; j < sides; ++j) {
+      const float x = -0.8f + 1.6f * float(i) / float(rings), a = 6.2831853f * float(j) / float(sides);
+      rest.push_back({x, 0.15f * std::cos(a), 0.15f * std::sin(a)});
+    }
+  for (uint32_t i = 0; i < rings; ++i)
+    for (uint32_t j = 0; j < sides; ++j) {
+      const uint32_t a = i * sides + j, b = i * sides + (j + 1) % sides;
+      tris.push_back({a, a + sides, b});
+      tris.push_back({b, a + sides, b + sides});
+    }
+  std::vector<std::vector<Vec3f>> keys;
+  for (uint32_t k = 0; k < steps; ++k) {
+    const float f = float(k) / float(steps - 1);
+    const Affine3f turn = Affine3f::rotate({0, 0, 1}, bend * f);
+    const Vec3f drift{0.0f, 0.2f * f, 0.0f};
+    std::vector<Vec3f> key;
+    for (const Vec3f& v : rest) {
+      const float s = std::clamp((v.x + 0.15f) / 0.3f, 0.0f, 1.0f), w = s * s * (3.0f - 2.0f * s);
+      key.push_back(v * (1.0f - w) + turn.xfmPoint(v) * w + drift);
+    }
+    keys.push_back(std::move(key));
+  }
+  auto scene = std::make_shared<Scene>();
+  scene->setMask(scene->addTriangleMesh(tris, keys, {0.05f, 0.95f}), 1u);
+  ProceduralScene ps;
+  ps.name = "bending-tube";
+  ps.scene = scene;
+  ps.camera = frameBox(Box3f({-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f}));
   return ps;
 }
 

@@ -45,7 +45,8 @@ struct BuildOptions {
   // `auto` only: a part becomes an instance when one affine key per step
   // reproduces every vertex within this fraction of the part's diagonal
   // (0: only exact fits), and the kind of every object below the top level
-  // (none: chosen per object by cost).
+  // (none: chosen per object by cost; a near-rigid cluster keeps its own
+  // tree, docs/auto.md), which also keeps the decomposition.
   float autoFitTolerance = 1e-5f;
   std::optional<AccelKind> autoLeafKind;
 };

@@ -176,8 +176,12 @@ constexpr Affine3f operator*(const Affine3f& a, const Affine3f& b) {
   return r;
 }
 
-// Element-wise interpolation of matrix keys (MSBVH paper §3.3).
+// Element-wise interpolation of matrix keys (MSBVH paper §3.3). Between
+// two equal keys the result is that key exactly (a * (1 - t) + a * t may
+// differ from a in the last bit): an instance that holds still, or one of
+// identity keys, leaves the ray as it is.
 constexpr Affine3f lerp(const Affine3f& a, const Affine3f& b, float t) {
+  if (a.vx == b.vx && a.vy == b.vy && a.vz == b.vz && a.p == b.p) return a;
   Affine3f r;
   r.vx = lerp(a.vx, b.vx, t);
   r.vy = lerp(a.vy, b.vy, t);

@@ -10,6 +10,7 @@
 #include "auto/object_choice.h"
 #include "auto/one_instance.h"
 #include "auto/part_bounds.h"
+#include "bvh/kinds/cluster_bvh.h"
 #include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
@@ -48,7 +49,9 @@ float linearChange(const std::vector<Affine3f>& keys) {
 
 // "rigid, kind frozen" from an object's line, for counts of many objects.
 std::string kindOfLine(const std::string& line) {
-  const std::string what = line.find(": rigid,") != std::string::npos ? "rigid" : "other";
+  const std::string what = line.find(": rigid,") != std::string::npos            ? "rigid"
+                           : line.find(": near-rigid cluster,") != std::string::npos ? "near-rigid"
+                                                                                      : "other";
   const size_t k = line.find("; kind ");
   if (k == std::string::npos) return what;
   const size_t end = line.find(':', k + 7);
@@ -76,11 +79,11 @@ class AutoStructure final : public Structure {
   uint32_t clusterOf(PrimRef p) const override;
 
  private:
-  enum class ObjectType : uint8_t { Rigid, World, UserInstance };
+  enum class ObjectType : uint8_t { Rigid, Cluster, World, UserInstance };
   struct TopEntry {
     ObjectType type;
-    uint32_t geomID;                      // in the original scene (Rigid, UserInstance)
-    const std::vector<uint32_t>* prims;   // Rigid: original primID of each child triangle; null: the same
+    uint32_t geomID;                      // in the original scene (Rigid, Cluster, UserInstance)
+    const std::vector<uint32_t>* prims;   // Rigid, Cluster: original primID of each child triangle; null: the same
   };
   struct WorldEntry {
     uint32_t geomID;
@@ -90,6 +93,8 @@ class AutoStructure final : public Structure {
   void remapHit(RayQuery& ray, float tfar, Hit& hit) const;
   StructureFactory childFactory();
   void addRigid(const RigidPart& part);
+  bool addCluster(const ClusterPart& part);
+  void returnToWorld(const ClusterPart& part);
   void addWorld();
   void addUserInstance(uint32_t geomID);
   void buildDirect();
@@ -130,6 +135,8 @@ AutoStructure::AutoStructure(const SceneContext& ctx) : ctx_(ctx), leafOptions_(
   decomposedBudget_ = trialBudget(ctx.budget());
   topScene_ = std::make_shared<Scene>();
   for (const RigidPart& part : plan_.rigid) addRigid(part);
+  for (const ClusterPart& part : plan_.clusters)
+    if (!addCluster(part)) returnToWorld(part);
   if (!plan_.world.empty()) addWorld();
   for (uint32_t id : plan_.userInstances) addUserInstance(id);
   BuildOptions topOptions = ctx.options();
@@ -152,6 +159,9 @@ AutoStructure::AutoStructure(const SceneContext& ctx) : ctx_(ctx), leafOptions_(
 
 bool AutoStructure::worthFlatTrial() const {
   if (leafOptions_.autoLeafKind) return false;
+  // Clusters save only where their fuzzy boxes are tight: always measured
+  // against the mesh's own linear bounds.
+  if (!plan_.clusters.empty()) return true;
   if (ctx_.totalPrimitives() <= kFlatTrialPrimitives) return true;
   if (topScene_->numGeometries() > kFlatTrialObjects) return false;
   for (const RigidPart& part : plan_.rigid)
@@ -242,6 +252,54 @@ void AutoStructure::addRigid(const RigidPart& part) {
                    ": rigid, " + std::to_string(part.fit.keys.size()) + " affine keys, residual " +
                    number(part.fit.maxResidual) + " of its diagonal " + number(part.fit.diagonal) + "; kind " +
                    std::string(toString(objects_.back().kind)) + ": " + objects_.back().why);
+}
+
+// A near-rigid cluster: its triangles over the mesh's own vertex buffers,
+// a tree in the cluster's frame (cluster_bvh.h) under identity keys, one
+// per step, so that the top level bounds it per step with the box of its
+// vertices. False when its fuzzy boxes have no usable bound.
+bool AutoStructure::addCluster(const ClusterPart& part) {
+  const Geometry& g = ctx_.geometry(part.geomID);
+  std::vector<Triangle> tris;
+  for (uint32_t p : part.prims) tris.push_back(g.triangles()[p]);
+  std::vector<VertexBuffer> steps;
+  for (uint32_t k = 0; k < g.numSteps(); ++k) steps.push_back(g.vertices(k));
+  auto child = std::make_shared<Scene>();
+  child->setMask(child->addTriangleMesh(std::move(tris), std::move(steps), g.timeRange()), g.mask());
+  BuiltObject b;
+  b.budget = trialBudget(*decomposedBudget_);
+  b.context = std::make_unique<SceneContext>(*child, leafOptions_, *b.budget, ctx_.structureFactory());
+  b.structure = makeClusterBvh(*b.context, part.maps);
+  if (!b.structure) return false;
+  AccelStats s;
+  b.structure->fillStats(s);
+  b.bytes = s.bytes;
+  b.sahCost = s.sahCost;
+  chargeKept(*b.budget, *decomposedBudget_);
+  objects_.push_back(std::move(b));
+  pending_[child.get()] = std::move(objects_.back().structure);
+  const uint32_t id = topScene_->addInstance(child, std::vector<Affine3f>(g.numSteps(), Affine3f()), g.timeRange());
+  topScene_->setMask(id, g.mask());
+  rigidKeyBoxes_.emplace_back(id, trianglesKeyBoxes(g, part.prims, 0.0f));
+  scenes_.push_back(std::move(child));
+  topMap_.push_back({ObjectType::Cluster, part.geomID, &part.prims});
+  lines_.push_back("object " + std::to_string(id) + ": geometry " + std::to_string(part.geomID) + ", " +
+                   std::to_string(part.prims.size()) + " triangles: near-rigid cluster, " +
+                   std::to_string(part.maps.size()) + " affine keys, the mesh's rms residual " +
+                   number(part.rmsResidual) + " of its diagonal; kind cluster-bvh: a static tree over the "
+                   "fuzzy boxes in its frame, " + number(double(objects_.back().bytes) / 1e6) + " MB");
+  return true;
+}
+
+// A cluster without a usable bound: its triangles stay world-space.
+void AutoStructure::returnToWorld(const ClusterPart& part) {
+  for (WorldPart& w : plan_.world)
+    if (w.geomID == part.geomID) {
+      w.prims.insert(w.prims.end(), part.prims.begin(), part.prims.end());
+      std::sort(w.prims.begin(), w.prims.end());
+      return;
+    }
+  plan_.world.push_back({part.geomID, part.prims, "a cluster whose fuzzy boxes have no usable bound"});
 }
 
 // The world-space rest as one object under an identity instance: its
@@ -344,6 +402,11 @@ void AutoStructure::remapHit(RayQuery& ray, float tfar, Hit& hit) const {
       hit.instID = kInvalidId;
       break;
     }
+    case ObjectType::Cluster:  // world-space triangles: the hit is the mesh's own
+      hit.geomID = e.geomID;
+      hit.primID = (*e.prims)[hit.primID];
+      hit.instID = kInvalidId;
+      break;
     case ObjectType::World: {
       const WorldEntry& w = worldMap_[hit.geomID];
       hit.geomID = w.geomID;

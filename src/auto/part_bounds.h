@@ -9,6 +9,7 @@
 // corner boxes have 1.75x the surface area of these).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "auto/auto_plan.h"
@@ -16,5 +17,10 @@
 namespace mbrt::detail {
 
 std::vector<Box3f> partKeyBoxes(const Geometry& g, const RigidPart& part);
+
+// Per vertex step, the box of the vertices of the triangles `prims` of g
+// (empty: all), widened by `margin`: the lerp of consecutive boxes holds
+// the lerped vertices (a near-rigid cluster's world-space triangles).
+std::vector<Box3f> trianglesKeyBoxes(const Geometry& g, std::span<const uint32_t> prims, float margin);
 
 }  // namespace mbrt::detail

@@ -1,4 +1,5 @@
-// Leaf blocks of a motion tree (`bvh-interp`): each leaf whose references
+// Leaf blocks of a motion tree (`bvh-interp`; also the static tree of a
+// near-rigid cluster, cluster_bvh.h, whose leaves move): each leaf whose references
 // are all triangles of one geometry without a filter keeps, per block of
 // four, the four triangles' vertices at every step of the geometry
 // (TriangleBlock: structure of arrays, world axes). The test interpolates
@@ -36,8 +37,8 @@ struct MotionLeafBlocks {
   // The blocks of every leaf of `bvh` in the reference table whose
   // references are all triangles of one geometry without a filter; none
   // when the tree is not laid out in blocks of four.
-  template <int N>
-  MotionLeafBlocks(const SceneContext& ctx, const WideBvh<N, true>& bvh) {
+  template <int N, bool Motion>
+  MotionLeafBlocks(const SceneContext& ctx, const WideBvh<N, Motion>& bvh) {
     constexpr uint32_t W = kLeafBlockWidth;
     if (bvh.prims.size() % W != 0 || bvh.inlineRefs != 0) return;
     size_t count = 0;
@@ -83,8 +84,8 @@ struct MotionLeafBlocks {
   // fn(first reference, count, geometry) for each leaf in the reference
   // table; the geometry is null unless all its references are triangles of
   // that one geometry without a filter.
-  template <int N, class Fn>
-  static void forEachLeaf(const SceneContext& ctx, const WideBvh<N, true>& bvh, Fn&& fn) {
+  template <int N, bool Motion, class Fn>
+  static void forEachLeaf(const SceneContext& ctx, const WideBvh<N, Motion>& bvh, Fn&& fn) {
     for (const auto& node : bvh.nodes)
       for (int lane = 0; lane < N; ++lane) {
         if (!node.isLeaf(lane) || node.count[lane] == kInlineLeaf) continue;

@@ -223,43 +223,59 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 // static tree's leaf `blocks` (leaf_blocks.h) or a motion tree's
 // `motionBlocks` (motion_leaf_blocks.h) when given. Count adds nodes
 // visited, box tests and primitive tests.
+//
+// The nodes may be tested with another ray than the leaves, of the same
+// parameter t: a near-rigid cluster's tree (cluster_bvh.h) has its nodes in
+// the cluster's frame and its leaves in world space. `nodeRay` and
+// `leafRay` may be the same object; a hit shortens both.
+template <bool AnyHit, bool Count, int N, bool Motion>
+bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& nodeRay, RayQuery& leafRay,
+              float boxTime, Hit* hit, TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
+              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr) {
+  RayQuery& ray = leafRay;
+  const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
+  if (bvh.empty()) return false;
+  const NodeRay<packWidth<N>()> r(nodeRay, boxTime);
+  const BlockRay<kLeafBlockWidth> blockRay(ray);
+  const auto leaf = [&](const TraversalItem& item) {
+    if constexpr (!Motion)
+      if (useBlocks && !(item.count & TraversalItem::kInline))
+        if (const TriangleLeafBlock* b = blocks->of(item.child)) {
+          if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray, blockRay);
+          else return leaf_block::intersectBlocks(b, item.count, ray, blockRay, *hit);
+        }
+    if (motionBlocks && !(item.count & TraversalItem::kInline))
+      if (const MotionLeafBlocks::Leaf* l = motionBlocks->of(item.child)) {
+        const PrimRef* prims = bvh.prims.data() + item.child;
+        if constexpr (AnyHit)
+          return leaf_block::occludedMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay);
+        else
+          return leaf_block::intersectMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay, *hit);
+      }
+    PrimRef one;
+    const PrimRef* prims = item.references(bvh.prims.data(), one);
+    const uint32_t count = item.leafSize();
+    if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored);
+    else return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored);
+  };
+  return wideTraverse<AnyHit, Count, N>(
+      bvh.stackSize, nodeRay, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
+      [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
+        const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
+        return intersectNode<packWidth<N>()>(node, r, nodeRay.tfar, dist, times);
+      },
+      [&](const TraversalItem& item) {
+        const bool found = leaf(item);
+        if constexpr (!AnyHit) nodeRay.tfar = ray.tfar;
+        return found;
+      });
+}
+
 template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
               TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
               const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr) {
-  const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
-  if (bvh.empty()) return false;
-  const NodeRay<packWidth<N>()> r(ray, boxTime);
-  const BlockRay<kLeafBlockWidth> blockRay(ray);
-  return wideTraverse<AnyHit, Count, N>(
-      bvh.stackSize, ray, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
-      [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
-        const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
-        return intersectNode<packWidth<N>()>(node, r, ray.tfar, dist, times);
-      },
-      [&](const TraversalItem& item) {
-        if constexpr (!Motion)
-          if (useBlocks && !(item.count & TraversalItem::kInline))
-            if (const TriangleLeafBlock* b = blocks->of(item.child)) {
-              if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray, blockRay);
-              else return leaf_block::intersectBlocks(b, item.count, ray, blockRay, *hit);
-            }
-        if constexpr (Motion)
-          if (motionBlocks && !(item.count & TraversalItem::kInline))
-            if (const MotionLeafBlocks::Leaf* l = motionBlocks->of(item.child)) {
-              const PrimRef* prims = bvh.prims.data() + item.child;
-              if constexpr (AnyHit)
-                return leaf_block::occludedMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay);
-              else
-                return leaf_block::intersectMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay,
-                                                         *hit);
-            }
-        PrimRef one;
-        const PrimRef* prims = item.references(bvh.prims.data(), one);
-        const uint32_t count = item.leafSize();
-        if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored);
-        else return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored);
-      });
+  return traverse<AnyHit, Count>(bvh, ctx, ray, ray, boxTime, hit, counters, stored, blocks, motionBlocks);
 }
 
 }  // namespace mbrt::detail

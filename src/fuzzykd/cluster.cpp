@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fuzzykd/fuzzy_boxes.h"
+#include "decompose/fuzzy_boxes.h"
 #include "kd/kd_builder.h"
 
 namespace mbrt::detail {

@@ -1,4 +1,4 @@
-#include "fuzzykd/fuzzy_boxes.h"
+#include "decompose/fuzzy_boxes.h"
 
 #include <algorithm>
 
