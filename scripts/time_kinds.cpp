@@ -15,7 +15,8 @@
 //     -o build/time_kinds build/libmbrt_bench.a build/libmbrt_io.a build/libmbrt_scenes.a \
 //     build/libmbrt_accel.a -lpng -lz -ltbb -lembree3
 // Run: build/time_kinds SCENE SIZE KIND,KIND,... ROUNDS [RAYS_OUT [PRIMARY_SIDE]]
-//   (SIZE of a built-in scene, as --size; the real scenes of the bench by
+//   (a KIND of auto:LEAF is auto with every object of kind LEAF, the
+//   autoLeafKind option; SIZE of a built-in scene, as --size; the real scenes of the bench by
 //   name; the secondary set from PRIMARY_SIDE^2 primaries, 128 = --quick;
 //   RAYS_OUT, when given, gets the rays in `mbrt trace`'s format).
 #include <time.h>
@@ -25,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -88,12 +90,16 @@ int main(int argc, char** argv) {
     names.push_back(kinds.substr(p, q - p));
     p = q + 1;
     BuildOptions o;
-    const auto kind = parseAccelKind(names.back());
-    if (!kind) {
+    const size_t colon = names.back().find(':');
+    const auto kind = parseAccelKind(names.back().substr(0, colon));
+    const auto leafKind =
+        colon == std::string::npos ? std::optional<AccelKind>() : parseAccelKind(names.back().substr(colon + 1));
+    if (!kind || (colon != std::string::npos && (!leafKind || *kind != AccelKind::Auto))) {
       std::fprintf(stderr, "unknown kind %s\n", names.back().c_str());
       return 2;
     }
     o.kind = *kind;
+    o.autoLeafKind = leafKind;
     const auto t0 = std::chrono::steady_clock::now();
     accels.push_back(Accel::build(*ps.scene, o));
     const double buildS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -104,8 +110,11 @@ int main(int argc, char** argv) {
       accels.back()->intersect(r, h, c);
     }
     const double n = double(rays.size());
-    std::printf("%-12s build %.3f s, %.3f MB, per ray: %.3f nodes, %.3f primitive tests\n", names.back().c_str(), buildS,
-                double(st.bytes) * 1e-6, double(c.nodesVisited) / n, double(c.primitiveTests) / n);
+    std::printf("%-12s build %.3f s, %.3f MB (%.3f MB in leaves), per ray: %.3f nodes, %.3f primitive tests (%.3f in "
+                "blocks)\n",
+                names.back().c_str(), buildS, double(st.bytes) * 1e-6, double(st.leafBlockBytes) * 1e-6,
+                double(c.nodesVisited) / n,
+                double(c.primitiveTests) / n, double(c.blockPrimitiveTests) / n);
   }
   std::vector<std::vector<double>> t(accels.size());
   double sink = 0;

@@ -69,20 +69,24 @@ TEST(AutoChoice, SmallScenesOfManyObjectsGetTheFlatTrial) {
 }
 
 // The cache factor: no weight up to 1 MB, a quarter more per doubling
-// above; it multiplies the counted work, entries included.
+// above; it multiplies the counted work, entries included. A test in a
+// leaf block weighs a quarter of one made alone; frozen's counts 0.8.
 TEST(AutoCost, CacheFactorWeighsBytesAboveOneMegabyte) {
   const detail::RayCostWeights w;
   EXPECT_DOUBLE_EQ(w.cacheFactor(0), 1.0);
   EXPECT_DOUBLE_EQ(w.cacheFactor(size_t(1) << 20), 1.0);
   EXPECT_DOUBLE_EQ(w.cacheFactor(size_t(2) << 20), 1.25);
   EXPECT_DOUBLE_EQ(w.cacheFactor(size_t(8) << 20), 1.75);
+  // 4 of 5 MB in leaf blocks, weighed a quarter: 2 MB.
+  EXPECT_DOUBLE_EQ(w.cacheFactor(size_t(5) << 20, size_t(4) << 20), 1.25);
   detail::RayCost c;
   c.nodes = 4;
-  c.primitives = 2;
+  c.primitives = 6;
+  c.blockPrimitives = 4;
   c.entries = 1;
-  EXPECT_DOUBLE_EQ(c.work(w, AccelKind::Stbvh), 4 + 2 + 2.5);
-  EXPECT_DOUBLE_EQ(c.work(w, AccelKind::Frozen), 4 + 2 * 0.7 + 2.5);
-  EXPECT_DOUBLE_EQ(c.total(w, AccelKind::Stbvh, size_t(4) << 20), (4 + 2 + 2.5) * 1.5);
+  EXPECT_DOUBLE_EQ(c.work(w, AccelKind::Stbvh), 4 + 2 + 4 * 0.25 + 2.5);
+  EXPECT_DOUBLE_EQ(c.work(w, AccelKind::Frozen), (4 + 2 + 4 * 0.25 + 2.5) * 0.8);
+  EXPECT_DOUBLE_EQ(c.total(w, AccelKind::Stbvh, size_t(4) << 20, 0), (4 + 2 + 4 * 0.25 + 2.5) * 1.5);
 }
 
 // The sample's second half: diffuse bounces from the first half's hits,

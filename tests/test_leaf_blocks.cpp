@@ -341,5 +341,34 @@ TEST(LeafBlocks, BlockTreesFillBlocksAndAgreeWithBrute) {
   }
 }
 
+// The counters and the stats say what the leaf blocks hold and test:
+// every leaf of `bvh-interp` over one triangle mesh is blocked, so all its
+// primitive tests are block tests, and the blocks' bytes are a part of its
+// bytes; `stbvh` has no blocks.
+TEST(LeafBlocks, CountersAndStatsReportTheBlocks) {
+  const ProceduralScene ps = makeProceduralScene("translate", 0.02, 5);
+  const auto rays = test::oracleRays(ps, 500, 0, 23);
+  for (AccelKind kind : {AccelKind::BvhInterp, AccelKind::Stbvh}) {
+    BuildOptions o;
+    o.kind = kind;
+    auto accel = Accel::build(*ps.scene, o);
+    TraversalCounters c;
+    for (const Ray& r : rays) {
+      Hit h;
+      accel->intersect(r, h, c);
+    }
+    const AccelStats st = accel->stats();
+    EXPECT_GT(c.primitiveTests, 0u);
+    if (kind == AccelKind::BvhInterp) {
+      EXPECT_EQ(c.blockPrimitiveTests, c.primitiveTests);
+      EXPECT_GT(st.leafBlockBytes, 0u);
+      EXPECT_LT(st.leafBlockBytes, st.bytes);
+    } else {
+      EXPECT_EQ(c.blockPrimitiveTests, 0u);
+      EXPECT_EQ(st.leafBlockBytes, 0u);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace mbrt

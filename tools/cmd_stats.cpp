@@ -64,6 +64,7 @@ void run(StatsArgs& args) {
     std::printf("  \"leafNodes\": %zu,\n", s.leafNodes);
     std::printf("  \"maxDepth\": %zu,\n", s.maxDepth);
     std::printf("  \"bytes\": %zu,\n", s.bytes);
+    std::printf("  \"leafBlockBytes\": %zu,\n", s.leafBlockBytes);
     std::printf("  \"peakBuildBytes\": %zu,\n", s.peakBuildBytes);
     std::printf("  \"sahCost\": %.17g,\n", s.sahCost);
     std::printf("  \"buildSeconds\": %.9g,\n", s.buildSeconds);
@@ -82,6 +83,9 @@ void run(StatsArgs& args) {
   std::printf("leaf nodes       %zu\n", s.leafNodes);
   std::printf("max depth        %zu\n", s.maxDepth);
   std::printf("memory           %zu bytes (%s)\n", s.bytes, humanBytes(s.bytes).c_str());
+  if (s.leafBlockBytes)
+    std::printf("  of which leaves %zu bytes (%s): triangles copied into the leaves\n", s.leafBlockBytes,
+                humanBytes(s.leafBlockBytes).c_str());
   std::printf("peak build mem   %zu bytes (%s)\n", s.peakBuildBytes, humanBytes(s.peakBuildBytes).c_str());
   std::printf("SAH cost         %.6g\n", s.sahCost);
   std::printf("build time       %.6f s", s.buildSeconds);

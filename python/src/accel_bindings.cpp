@@ -250,6 +250,7 @@ py::dict statsDict(const AccelStats& s) {
   d["leaf_nodes"] = s.leafNodes;
   d["max_depth"] = s.maxDepth;
   d["bytes"] = s.bytes;
+  d["leaf_block_bytes"] = s.leafBlockBytes;
   d["peak_build_bytes"] = s.peakBuildBytes;
   d["sah_cost"] = s.sahCost;
   d["build_seconds"] = s.buildSeconds;

@@ -74,6 +74,7 @@ void TraversalCounters::add(const TraversalCounters& o) {
   nodesVisited += o.nodesVisited;
   boxTests += o.boxTests;
   primitiveTests += o.primitiveTests;
+  blockPrimitiveTests += o.blockPrimitiveTests;
   maxNodesVisited = std::max(maxNodesVisited, o.maxNodesVisited);
   maxPrimitiveTests = std::max(maxPrimitiveTests, o.maxPrimitiveTests);
 }

@@ -180,7 +180,7 @@ void AutoStructure::keepCheaperOfFlat() {
   AccelStats splitStats;
   top_->fillStats(splitStats);
   topContext_->addChildStats(splitStats);
-  const double split = counted.total(RayCostWeights{}, AccelKind::Stbvh, splitStats.bytes);
+  const double split = counted.total(RayCostWeights{}, AccelKind::Stbvh, splitStats.bytes, splitStats.leafBlockBytes);
   // buildObject charges the kept kind to flatBudget; flat.budget holds it.
   const std::unique_ptr<BuildBudget> flatBudget = trialBudget(ctx_.budget());
   BuiltObject flat = buildObject(ctx_.scene(), leafOptions_, *flatBudget, ctx_.structureFactory(), childFactory());
@@ -274,6 +274,7 @@ bool AutoStructure::addCluster(const ClusterPart& part) {
   AccelStats s;
   b.structure->fillStats(s);
   b.bytes = s.bytes;
+  b.leafBlockBytes = s.leafBlockBytes;
   b.sahCost = s.sahCost;
   chargeKept(*b.budget, *decomposedBudget_);
   objects_.push_back(std::move(b));

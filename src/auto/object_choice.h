@@ -19,6 +19,7 @@ struct BuiltObject {
   AccelKind kind = AccelKind::BvhInterp;
   std::string why;  // the reason for the choice, with the trial figures
   size_t bytes = 0;
+  size_t leafBlockBytes = 0;  // of bytes, in leaf blocks (AccelStats)
   double sahCost = 0;
   double rayCost = 0;  // measured per sampled ray, in node visits (ray_cost.h)
 };

@@ -109,6 +109,7 @@ RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, co
   const double n = double(rays.size() + bounces.size());
   cost.nodes = double(counters.nodesVisited) / n;
   cost.primitives = double(counters.primitiveTests) / n;
+  cost.blockPrimitives = double(counters.blockPrimitiveTests) / n;
   cost.entries = entries ? double(entries->load() - before) / n : 0.0;
   return cost;
 }

@@ -19,30 +19,50 @@ namespace mbrt::detail {
 
 // The cost per ray, in units of one node visit:
 //
-//   (nodes + primitive x primitive tests + entry x instance entries)
-//     x (1 + cachePerDoubling x log2(bytes / cacheBytes))   (bytes >= cacheBytes)
+//   own x (nodes + primitive x tests one triangle at a time
+//                + blockPrimitive x tests in leaf blocks + entry x instance entries)
+//     x (1 + cachePerDoubling x log2(cached / cacheBytes))   (cached >= cacheBytes)
+//
+// with own = frozenWork for `frozen`, 1 for the other kinds, and cached the
+// structure's bytes with its leaf blocks' bytes (AccelStats::leafBlockBytes)
+// counted at leafBlockByteShare.
 //
 // Weights fitted to the thread CPU time per ray of every kind on the
 // bench's secondary rays of the suite and the real scenes
-// (docs/performance.md, "The cost model fitted to time"): a node visit and
-// a triangle test cost about the same (~35 ns on this machine), whatever
-// the kind; what differs between kinds at equal counts is the memory they
-// read: each doubling of a structure's bytes above ~1 MB (the second-level
-// cache of a core) costs a quarter more per event (cache misses). `frozen`'s
-// leaves hold their triangles (no index or vertex fetch): ~0.7 of a
-// triangle test (callgrind, ~210 against ~300 instructions). An entry into
-// an instanced structure (the ray's transform and the child traversal's
-// set-up, ~550 instructions) weighs 2.5 node visits.
+// (docs/performance.md, "The cost model fitted to time" and "The cost
+// model with leaf blocks"): a node visit and a triangle test cost about
+// the same (~35 ns on this machine), whatever the kind; what differs
+// between kinds at equal counts is the memory they read: each doubling of
+// a structure's bytes above ~1 MB (the second-level cache of a core) costs
+// a quarter more per event (cache misses). A triangle tested in a leaf
+// block (leaf_blocks.h, motion_leaf_blocks.h: eight triangles against the
+// ray at once, their vertices stored in the block) costs a quarter of one
+// tested alone. A block is read whole, front to back (288 bytes per key
+// for eight triangles), which the hardware prefetches, where a node visit or
+// a triangle fetched through its index misses at random: the blocks' bytes
+// weigh a quarter of the rest in the cache factor (with them at full
+// weight the model ranks `bvh-interp` on `translate` at 0.96 of `msbvh`'s
+// cost where it takes 0.79 of its time, and the fit's error is 12 % rms
+// instead of 8 %). `frozen`'s nodes hold one box per child and its blocks
+// one position per vertex (no interpolation at the ray's time): its counts
+// cost 0.8 of the same counts in a tree with linear bounds (`bvh-interp`
+// over the same static objects).
+// An entry into an instanced structure (the ray's transform and the child
+// traversal's set-up, ~550 instructions) weighs 2.5 node visits.
 struct RayCostWeights {
   double node = 1.0;
   double primitive = 1.0;
-  double frozenPrimitive = 0.7;
+  double blockPrimitive = 0.25;
+  double frozenWork = 0.8;
   double entry = 2.5;
   double cacheBytes = double(size_t(1) << 20);
   double cachePerDoubling = 0.25;
-  // The factor on the work of a structure of `bytes`.
-  double cacheFactor(size_t bytes) const {
-    return 1.0 + cachePerDoubling * std::log2(std::max(1.0, double(bytes) / cacheBytes));
+  double leafBlockByteShare = 0.25;
+  // The factor on the work of a structure of `bytes`, `leafBlockBytes` of
+  // them in leaf blocks.
+  double cacheFactor(size_t bytes, size_t leafBlockBytes = 0) const {
+    const double cached = double(bytes) - (1.0 - leafBlockByteShare) * double(std::min(leafBlockBytes, bytes));
+    return 1.0 + cachePerDoubling * std::log2(std::max(1.0, cached / cacheBytes));
   }
 };
 
@@ -79,15 +99,18 @@ class EntryCounting final : public Structure {
 };
 
 struct RayCost {
-  double nodes = 0, primitives = 0, entries = 0;  // per ray
+  // Per ray; blockPrimitives is the part of primitives tested in leaf blocks.
+  double nodes = 0, primitives = 0, blockPrimitives = 0, entries = 0;
   // The counted work alone, in node visits.
   double work(const RayCostWeights& w, AccelKind kind) const {
-    return w.node * nodes + (kind == AccelKind::Frozen ? w.frozenPrimitive : w.primitive) * primitives +
-           w.entry * entries;
+    const double counted = w.node * nodes + w.primitive * (primitives - blockPrimitives) +
+                           w.blockPrimitive * blockPrimitives + w.entry * entries;
+    return (kind == AccelKind::Frozen ? w.frozenWork : 1.0) * counted;
   }
-  // The work weighed by the cache factor of a structure of `bytes`.
-  double total(const RayCostWeights& w, AccelKind kind, size_t bytes) const {
-    return work(w, kind) * w.cacheFactor(bytes);
+  // The work weighed by the cache factor of a structure of `bytes`,
+  // `leafBlockBytes` of them in leaf blocks.
+  double total(const RayCostWeights& w, AccelKind kind, size_t bytes, size_t leafBlockBytes) const {
+    return work(w, kind) * w.cacheFactor(bytes, leafBlockBytes);
   }
 };
 

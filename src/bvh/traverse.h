@@ -241,11 +241,13 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
     if constexpr (!Motion)
       if (useBlocks && !(item.count & TraversalItem::kInline))
         if (const TriangleLeafBlock* b = blocks->of(item.child)) {
+          if constexpr (Count) counters->blockPrimitiveTests += item.count;
           if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray, blockRay);
           else return leaf_block::intersectBlocks(b, item.count, ray, blockRay, *hit);
         }
     if (motionBlocks && !(item.count & TraversalItem::kInline))
       if (const MotionLeafBlocks::Leaf* l = motionBlocks->of(item.child)) {
+        if constexpr (Count) counters->blockPrimitiveTests += item.count;
         const PrimRef* prims = bvh.prims.data() + item.child;
         if constexpr (AnyHit)
           return leaf_block::occludedMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay);

@@ -61,6 +61,7 @@ void SceneContext::addChildStats(AccelStats& stats) const {
     child.structure->fillStats(s);
     child.context->addChildStats(s);
     stats.bytes += s.bytes;
+    stats.leafBlockBytes += s.leafBlockBytes;
     stats.references += s.references;
     stats.innerNodes += s.innerNodes;
     stats.leafNodes += s.leafNodes;

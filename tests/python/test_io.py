@@ -53,6 +53,9 @@ def test_stats_dict():
     assert stats["primitives"] >= scene.num_primitives  # all levels
     assert stats["bytes"] > 0 and stats["leaf_nodes"] > 0 and stats["references"] >= stats["primitives"]
     assert set(stats) >= {"inner_nodes", "max_depth", "peak_build_bytes", "sah_cost", "build_seconds", "invalid_rays"}
+    assert stats["leaf_block_bytes"] == 0  # msbvh tests its triangles one at a time
+    blocked = mbrt.Accel(scene, "bvh-interp").stats()
+    assert 0 < blocked["leaf_block_bytes"] < blocked["bytes"]
 
 
 def test_render_shape_and_determinism():

@@ -38,6 +38,7 @@ class BvhInterp final : public WideBvhStructure<N, true> {
     addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, {0.0f, 1.0f}); }, sums);
     sums.bytes += Base::motionBlocks_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
+    s.leafBlockBytes = Base::motionBlocks_.bytes();
   }
 
   // Same topology, new bounds: leaves from the primitives, inner lanes from

@@ -56,6 +56,7 @@ class ClusterBvh final : public TracedStructure<ClusterBvh<N>> {
     addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
     sums.bytes += blocks_.bytes() + maps_.size() * sizeof(Affine3f);
     sums.fill(s, sceneSahArea(ctx_));
+    s.leafBlockBytes = blocks_.bytes();
   }
 
  private:

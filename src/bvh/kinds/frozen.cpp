@@ -53,6 +53,7 @@ class Frozen final : public WideBvhStructure<N, false> {
     addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
     sums.bytes += Base::stored_.bytes() + Base::blocks_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
+    s.leafBlockBytes = Base::stored_.bytes() + Base::blocks_.bytes();
   }
 
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
