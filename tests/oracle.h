@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -54,6 +55,13 @@ inline void recordAgreement(OracleReport& rep, const Ray& ray, const Hit& a, con
   if (occludedA != occludedB) ++rep.anyWrong;
 }
 
+// The oracle: brute force over `scene`.
+inline std::unique_ptr<Accel> buildBrute(const Scene& scene) {
+  BuildOptions o;
+  o.kind = AccelKind::Brute;
+  return Accel::build(scene, o);
+}
+
 // `tolerance`: relative difference of t allowed for the same primitive and for
 // ties. mbrt's structures share the oracle's leaf test, so only traversal
 // order differs (1e-5); Embree evaluates vertices and triangles with its own
@@ -68,6 +76,12 @@ inline OracleReport compareWithOracle(const Accel& oracle, const Accel& tested, 
     recordAgreement(rep, ray, a, b, oracle.occluded(ray), tested.occluded(ray), tolerance);
   }
   return rep;
+}
+
+// compareWithOracle of `rays` with every ray's mask set to `mask`.
+inline OracleReport compareMasked(const Accel& oracle, const Accel& tested, std::vector<Ray> rays, uint32_t mask) {
+  for (Ray& r : rays) r.mask = mask;
+  return compareWithOracle(oracle, tested, rays);
 }
 
 // Every time at which some geometry of the scene (or of an instanced scene)

@@ -214,9 +214,7 @@ TEST(AutoOracle, AgreesWithBruteOnRigidDeformingFilteredAndInstancedGeometry) {
     if (a.candidate.geomID != 6 || a.candidate.primID >= prims6) ++badIds;
     return a.candidate.primID % 2 == 0;
   });
-  BuildOptions bo;
-  bo.kind = AccelKind::Brute;
-  auto oracle = Accel::build(*ps.scene, bo);
+  auto oracle = test::buildBrute(*ps.scene);
   const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2500, 300), test::scaled(40, 5), 11);
   // As auto chooses (the scene is small: the whole scene as one object may
   // win its trial), and with the decomposition kept (a forced leaf kind
@@ -233,9 +231,7 @@ TEST(AutoOracle, AgreesWithBruteOnRigidDeformingFilteredAndInstancedGeometry) {
     EXPECT_GT(rep.hits, rep.rays / 4);
     EXPECT_EQ(badIds.load(), 0) << "filters see the original ids";
     // Masks: geometry 0 carries mask 1 only.
-    std::vector<Ray> masked = rays;
-    for (Ray& r : masked) r.mask = 2u;
-    const auto maskedRep = test::compareWithOracle(*oracle, *tested, masked);
+    const auto maskedRep = test::compareMasked(*oracle, *tested, rays, 2u);
     EXPECT_EQ(maskedRep.wrong, 0u) << maskedRep.firstFailure;
     EXPECT_EQ(maskedRep.anyWrong, 0u);
   }
@@ -243,9 +239,7 @@ TEST(AutoOracle, AgreesWithBruteOnRigidDeformingFilteredAndInstancedGeometry) {
 
 TEST(AutoOracle, AgreesWithBruteOnTheMixedScene) {
   const ProceduralScene ps = test::mixedScene();
-  BuildOptions bo;
-  bo.kind = AccelKind::Brute;
-  auto oracle = Accel::build(*ps.scene, bo);
+  auto oracle = test::buildBrute(*ps.scene);
   const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 5);
   for (AccelKind leaf : {AccelKind::BvhInterp, AccelKind::Stbvh, AccelKind::Msbvh}) {
     BuildOptions o;
@@ -266,9 +260,7 @@ TEST(AutoOracle, AgreesWithBruteOnTheMixedScene) {
 // ones off by up to 5e-5 without the world test).
 TEST(AutoOracle, GrazingRigidHitsAreBrutesOwnSteepOnesWithinRounding) {
   const ProceduralScene ps = makeProceduralScene("rotate", 0.02, 3);
-  BuildOptions bo;
-  bo.kind = AccelKind::Brute;
-  auto oracle = Accel::build(*ps.scene, bo);
+  auto oracle = test::buildBrute(*ps.scene);
   BuildOptions o;
   o.kind = AccelKind::Auto;
   o.autoLeafKind = AccelKind::BvhInterp;  // the decomposition, not the flat trial
@@ -301,9 +293,7 @@ TEST(AutoOracle, GrazingRigidHitsAreBrutesOwnSteepOnesWithinRounding) {
 TEST(AutoOracle, OneInstanceIsTestedWithoutATopLevel) {
   const ProceduralScene ps = makeProceduralScene("rotate", 0.02, 5);
   ps.scene->setMask(0, 1u);
-  BuildOptions bo;
-  bo.kind = AccelKind::Brute;
-  auto oracle = Accel::build(*ps.scene, bo);
+  auto oracle = test::buildBrute(*ps.scene);
   // The leaf kind forced: the decomposition kept (no flat trial).
   auto tested = buildAuto(*ps.scene, 1e-5f, 8, AccelKind::BvhInterp);
   const AccelStats s = tested->stats();
@@ -314,9 +304,7 @@ TEST(AutoOracle, OneInstanceIsTestedWithoutATopLevel) {
   EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
   EXPECT_EQ(rep.anyWrong, 0u);
   EXPECT_GT(rep.hits, rep.rays / 10);
-  std::vector<Ray> masked = rays;
-  for (Ray& r : masked) r.mask = 2u;
-  const auto maskedRep = test::compareWithOracle(*oracle, *tested, masked);
+  const auto maskedRep = test::compareMasked(*oracle, *tested, rays, 2u);
   EXPECT_EQ(maskedRep.hits, 0u);
   EXPECT_EQ(maskedRep.wrong + maskedRep.anyWrong, 0u) << maskedRep.firstFailure;
 }

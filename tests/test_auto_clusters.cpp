@@ -69,9 +69,7 @@ TEST(AutoClusters, TopLevelBoxesHoldTheClusterAtSampledTimes) {
 
 TEST(AutoClusters, AgreeWithBruteAtEveryTime) {
   const ProceduralScene ps = test::bendingTubeScene();
-  BuildOptions bo;
-  bo.kind = AccelKind::Brute;
-  auto oracle = Accel::build(*ps.scene, bo);
+  auto oracle = test::buildBrute(*ps.scene);
   const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(3000, 400), test::scaled(60, 10), 17);
   for (int branching : {2, 4, 8}) {
     BuildOptions o;
@@ -85,9 +83,7 @@ TEST(AutoClusters, AgreeWithBruteAtEveryTime) {
     EXPECT_EQ(rep.wrong, 0u) << "branching " << branching << ": " << rep.firstFailure;
     EXPECT_EQ(rep.anyWrong, 0u) << "branching " << branching;
     EXPECT_GT(rep.hits, rep.rays / 10);
-    std::vector<Ray> masked = rays;
-    for (Ray& r : masked) r.mask = 2u;
-    const auto maskedRep = test::compareWithOracle(*oracle, *tested, masked);
+    const auto maskedRep = test::compareMasked(*oracle, *tested, rays, 2u);
     EXPECT_EQ(maskedRep.hits, 0u);
     EXPECT_EQ(maskedRep.wrong + maskedRep.anyWrong, 0u) << maskedRep.firstFailure;
   }

@@ -17,9 +17,7 @@ namespace {
 
 TEST(AutoTolerance, DisagreementsAreNearEdgesAndVanishAsTheToleranceGoesToZero) {
   const ProceduralScene ps = test::autoTestScene(3e-3f, 12);
-  BuildOptions bo;
-  bo.kind = AccelKind::Brute;
-  auto oracle = Accel::build(*ps.scene, bo);
+  auto oracle = test::buildBrute(*ps.scene);
   const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(3000, 1000), test::scaled(40, 10), 17);
   const float diagonal = length(Vec3f(2.2f));
   size_t previous = ~size_t(0);
