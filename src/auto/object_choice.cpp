@@ -74,7 +74,8 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   if (trials.empty()) throw Error("memory budget exceeded by every candidate kind of an auto object");
   const std::vector<RayQuery> rays = sampleRays(*trials.front().context);
   const RayCostWeights weights;
-  for (BuiltObject& t : trials) t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.bytes, t.leafBlockBytes);
+  for (BuiltObject& t : trials)
+    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.bytes, t.leafBlockBytes);
   size_t best = 0;
   for (size_t i = 0; i < trials.size(); ++i)
     if (trials[i].rayCost < trials[best].rayCost) best = i;
