@@ -400,14 +400,15 @@ void AutoStructure::remapHit(RayQuery& ray, float tfar, Hit& hit) const {
       // original mesh's vertices at two steps (docs/auto.md, "Hits name the
       // original scene").
       const float dn = dot(hit.Ng, ray.dir);
-      const bool grazing = dn * dn < kRetestCosine * kRetestCosine * dot(hit.Ng, hit.Ng) * dot(ray.dir, ray.dir);
-      RayQuery world = ray;
-      world.tfar = tfar;
-      Hit exact;
-      if (grazing && leaf_detail::candidate(ctx_.geometry(e.geomID), {e.geomID, primID}, world, exact)) {
-        hit = exact;
-        ray.tfar = exact.t;
-        break;
+      if (dn * dn < kRetestCosine * kRetestCosine * dot(hit.Ng, hit.Ng) * dot(ray.dir, ray.dir)) {
+        RayQuery world = ray;
+        world.tfar = tfar;
+        Hit exact;
+        if (leaf_detail::candidate(ctx_.geometry(e.geomID), {e.geomID, primID}, world, exact)) {
+          hit = exact;
+          ray.tfar = exact.t;
+          break;
+        }
       }
       // The instance's normal M^-T n, turned into the mesh's cof(M) n.
       hit.Ng = hit.Ng * topScene_->geometry(hit.instID).transformAt(ray.time).determinant();

@@ -1,7 +1,7 @@
 // Leaf blocks of a motion tree (`bvh-interp`; also the static tree of a
-// near-rigid cluster, cluster_bvh.h, whose leaves move): each leaf whose references
-// are all triangles of one geometry without a filter keeps, per block of
-// four, the four triangles' vertices at every step of the geometry
+// near-rigid cluster, cluster_bvh.h, whose leaves move): each leaf whose
+// references are all triangles of one geometry without a filter keeps, per
+// block of four, the four triangles' vertices at every step of the geometry
 // (TriangleBlock: structure of arrays, world axes). The test interpolates
 // the ray's two steps in the block, lane by lane with the arithmetic of
 // leaf_run::VerticesAt (lerp: a * (1 - f) + b * f, no FMA), then runs the
