@@ -16,7 +16,10 @@
 //     build/libmbrt_accel.a -lpng -lz -ltbb -lembree3
 // Run: build/time_kinds SCENE SIZE KIND,KIND,... ROUNDS [RAYS_OUT [PRIMARY_SIDE]]
 //   (a KIND of auto:LEAF is auto with every object of kind LEAF, the
-//   autoLeafKind option; SIZE of a built-in scene, as --size; the real scenes of the bench by
+//   autoLeafKind option; `embree` is Embree's robust mode, `embree-default`
+//   its default flags, `embree-static` its static BVH at the frozen time;
+//   with FROZEN=t in the environment every ray is at time t and `frozen`
+//   and `embree-static` are built there; SIZE of a built-in scene, as --size; the real scenes of the bench by
 //   name; the secondary set from PRIMARY_SIDE^2 primaries, 128 = --quick;
 //   RAYS_OUT, when given, gets the rays in `mbrt trace`'s format).
 #include <time.h>
@@ -74,7 +77,14 @@ int main(int argc, char** argv) {
   const ProceduralScene ps = real ? tools::loadRealBenchScene(name) : makeProceduralScene(name, size, 1);
   const auto reference = bench::accelCandidate(AccelKind::Stbvh, BuildOptions::EmbreeMode::Robust).build(*ps.scene);
   const bench::RaySets sets = bench::makeRaySets(ps, *reference, side, side, 1 ^ hashName(ps.name), {}, true);
-  const std::vector<Ray>& rays = sets[bench::RaySet::Secondary];
+  std::vector<Ray> rays = sets[bench::RaySet::Secondary];
+  // FROZEN=t: every ray at time t, and `frozen` and `embree-static` frozen
+  // there (the kernel-to-kernel comparison of the bench's frozen set).
+  std::optional<float> frozenTime;
+  if (const char* f = std::getenv("FROZEN")) {
+    frozenTime = float(std::atof(f));
+    for (Ray& r : rays) r.time = *frozenTime;
+  }
   if (dump) {
     std::ofstream f(dump, std::ios::binary);
     for (const Ray& r : rays) {
@@ -91,7 +101,10 @@ int main(int argc, char** argv) {
     p = q + 1;
     BuildOptions o;
     const size_t colon = names.back().find(':');
-    const auto kind = parseAccelKind(names.back().substr(0, colon));
+    const bool embreeDefault = names.back() == "embree-default";  // `embree` alone: robust mode
+    const bool embreeStatic = names.back() == "embree-static";
+    const auto kind = embreeDefault || embreeStatic ? std::optional<AccelKind>(AccelKind::Embree)
+                                                    : parseAccelKind(names.back().substr(0, colon));
     const auto leafKind =
         colon == std::string::npos ? std::optional<AccelKind>() : parseAccelKind(names.back().substr(colon + 1));
     if (!kind || (colon != std::string::npos && (!leafKind || *kind != AccelKind::Auto))) {
@@ -99,6 +112,9 @@ int main(int argc, char** argv) {
       return 2;
     }
     o.kind = *kind;
+    if (embreeDefault) o.embreeMode = BuildOptions::EmbreeMode::Default;
+    if (embreeStatic) o.embreeMode = BuildOptions::EmbreeMode::Static;
+    if (frozenTime) o.frozenTime = *frozenTime;
     o.autoLeafKind = leafKind;
     const auto t0 = std::chrono::steady_clock::now();
     accels.push_back(Accel::build(*ps.scene, o));

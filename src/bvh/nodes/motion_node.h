@@ -25,7 +25,7 @@
 namespace mbrt::detail {
 
 template <int N>
-struct alignas(32) WideNode<N, true> {
+struct alignas(nodeAlignment(N)) WideNode<N, true> {
   static_assert(N <= 8, "one byte of lane bits");
   // Per axis: the grid's origin at t = 0, its drift to t = 1, its steps.
   float origin[3], drift[3], step0[3], step1[3];
