@@ -109,14 +109,18 @@ class AutoStructure final : public Structure {
   const SceneContext& ctx_;
   BuildOptions leafOptions_;
   std::unique_ptr<BuildBudget> decomposedBudget_;  // charges of the decomposition, until it is kept
-  std::atomic<uint64_t> entries_{0};               // calls into the objects while counting_
+  EntryTally tally_;                               // what the objects did while counting_
   std::atomic<bool> counting_{false};
   AutoPlan plan_;
   std::map<const Scene*, const Structure*> userStructures_;  // built by ctx_
   std::vector<std::shared_ptr<Scene>> scenes_;               // derived scenes
   std::shared_ptr<Scene> topScene_;
   std::vector<BuiltObject> objects_;
-  std::map<const Scene*, std::unique_ptr<Structure>> pending_;  // for the top context's factory
+  struct PendingObject {
+    std::unique_ptr<Structure> structure;
+    AccelKind kind;
+  };
+  std::map<const Scene*, PendingObject> pending_;  // for the top context's factory
   std::unique_ptr<SceneContext> topContext_;
   std::unique_ptr<Structure> top_;
   const Structure* trace_ = nullptr;
@@ -179,7 +183,7 @@ bool AutoStructure::worthFlatTrial() const {
 void AutoStructure::keepCheaperOfFlat() {
   const std::vector<RayQuery> rays = sampleRays(ctx_);
   counting_ = true;
-  const RayCost counted = measureRayCost(*top_, rays, &entries_);
+  const RayCost counted = measureRayCost(*top_, rays, &tally_);
   counting_ = false;
   AccelStats splitStats;
   top_->fillStats(splitStats);
@@ -224,7 +228,9 @@ void AutoStructure::buildDirect() {
 StructureFactory AutoStructure::childFactory() {
   return [this](const SceneContext& c) -> std::unique_ptr<Structure> {
     auto p = pending_.find(&c.scene());
-    if (p != pending_.end() && p->second) return std::make_unique<EntryCounting>(std::move(p->second), entries_, counting_);
+    if (p != pending_.end() && p->second.structure)
+      return std::make_unique<EntryCounting>(std::move(p->second.structure), tally_, counting_,
+                                             p->second.kind == AccelKind::Frozen);
     auto u = userStructures_.find(&c.scene());
     if (u != userStructures_.end()) return std::make_unique<BorrowedStructure>(*u->second);
     BuildOptions o = c.options();
@@ -243,7 +249,7 @@ void AutoStructure::addRigid(const RigidPart& part) {
   auto child = std::make_shared<Scene>();
   child->addTriangleMesh(std::move(tris), std::vector<VertexBuffer>{g.vertices(0)});
   objects_.push_back(buildObject(*child, leafOptions_, *decomposedBudget_, ctx_.structureFactory(), ctx_.structureFactory()));
-  pending_[child.get()] = std::move(objects_.back().structure);
+  pending_[child.get()] = {std::move(objects_.back().structure), objects_.back().kind};
   const uint32_t id = topScene_->addInstance(child, part.fit.keys, g.timeRange());
   topScene_->setMask(id, g.mask());
   rigidKeyBoxes_.emplace_back(id, partKeyBoxes(g, part));
@@ -282,7 +288,7 @@ bool AutoStructure::addCluster(const ClusterPart& part) {
   b.sahCost = s.sahCost;
   chargeKept(*b.budget, *decomposedBudget_);
   objects_.push_back(std::move(b));
-  pending_[child.get()] = std::move(objects_.back().structure);
+  pending_[child.get()] = {std::move(objects_.back().structure), objects_.back().kind};
   const uint32_t id = topScene_->addInstance(child, std::vector<Affine3f>(g.numSteps(), Affine3f()), g.timeRange());
   topScene_->setMask(id, g.mask());
   rigidKeyBoxes_.emplace_back(id, trianglesKeyBoxes(g, part.prims, 0.0f));
@@ -343,7 +349,7 @@ void AutoStructure::addWorld() {
     worldMap_.push_back({part.geomID, prims});
   }
   objects_.push_back(buildObject(*world, leafOptions_, *decomposedBudget_, ctx_.structureFactory(), ctx_.structureFactory()));
-  pending_[world.get()] = std::move(objects_.back().structure);
+  pending_[world.get()] = {std::move(objects_.back().structure), objects_.back().kind};
   const uint32_t id = topScene_->addInstance(world, std::vector<Affine3f>{Affine3f()});
   scenes_.push_back(std::move(world));
   topMap_.push_back({ObjectType::World, kInvalidId, nullptr});

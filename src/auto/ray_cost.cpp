@@ -90,11 +90,16 @@ std::vector<RayQuery> bounceRays(const std::vector<RayQuery>& rays, const std::v
   return out;
 }
 
-RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, const std::atomic<uint64_t>* entries) {
+RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, const EntryTally* tally) {
   RayCost cost;
   if (rays.empty()) return cost;
   TraversalCounters counters;
-  const uint64_t before = entries ? entries->load() : 0;
+  const auto read = [&](const std::atomic<uint64_t> EntryTally::*field) {
+    return tally ? double((tally->*field).load()) : 0.0;
+  };
+  const double entries = read(&EntryTally::entries), frozenNodes = read(&EntryTally::frozenNodes),
+               frozenPrimitives = read(&EntryTally::frozenPrimitives),
+               frozenBlockPrimitives = read(&EntryTally::frozenBlockPrimitives);
   std::vector<Hit> hits(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
     RayQuery q = rays[i];
@@ -110,7 +115,10 @@ RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, co
   cost.nodes = double(counters.nodesVisited) / n;
   cost.primitives = double(counters.primitiveTests) / n;
   cost.blockPrimitives = double(counters.blockPrimitiveTests) / n;
-  cost.entries = entries ? double(entries->load() - before) / n : 0.0;
+  cost.entries = (read(&EntryTally::entries) - entries) / n;
+  cost.frozenNodes = (read(&EntryTally::frozenNodes) - frozenNodes) / n;
+  cost.frozenPrimitives = (read(&EntryTally::frozenPrimitives) - frozenPrimitives) / n;
+  cost.frozenBlockPrimitives = (read(&EntryTally::frozenBlockPrimitives) - frozenBlockPrimitives) / n;
   return cost;
 }
 

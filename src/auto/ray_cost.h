@@ -20,12 +20,14 @@ namespace mbrt::detail {
 // The cost per ray, in units of one node visit:
 //
 //   own x (nodes + primitive x tests one triangle at a time
-//                + blockPrimitive x tests in leaf blocks + entry x instance entries)
+//                + blockPrimitive x tests in leaf blocks + entry x instance entries
+//                - (1 - frozenWork) x the same counts made inside `frozen` objects)
 //     x (1 + cachePerDoubling x log2(cached / cacheBytes))   (cached >= cacheBytes)
 //
 // with own = frozenWork for `frozen`, 1 for the other kinds, and cached the
 // structure's bytes with its leaf blocks' bytes (AccelStats::leafBlockBytes)
-// counted at leafBlockByteShare.
+// counted at leafBlockByteShare. An entry's own test in its parent's leaf
+// is part of the entry's weight, not a primitive test.
 //
 // Weights fitted to the thread CPU time per ray of every kind on the
 // bench's secondary rays of the suite and the real scenes
@@ -46,15 +48,17 @@ namespace mbrt::detail {
 // instead of 8 %). `frozen`'s nodes hold one box per child and its blocks
 // one position per vertex (no interpolation at the ray's time): its counts
 // cost 0.8 of the same counts in a tree with linear bounds (`bvh-interp`
-// over the same static objects).
-// An entry into an instanced structure (the ray's transform and the child
-// traversal's set-up, ~550 instructions) weighs 2.5 node visits.
+// over the same static objects), inside an instance as well as alone.
+// An entry into an instanced structure (the instance's test, the ray's
+// transform and the child traversal's set-up, some 550 instructions on
+// data that stays in the caches) weighs 0.7 of a node visit, which misses
+// them (docs/performance.md, "Instance entries priced by time").
 struct RayCostWeights {
   double node = 1.0;
   double primitive = 1.0;
   double blockPrimitive = 0.25;
   double frozenWork = 0.8;
-  double entry = 2.5;
+  double entry = 0.7;
   double cacheBytes = double(size_t(1) << 20);
   double cachePerDoubling = 0.25;
   double leafBlockByteShare = 0.25;
@@ -76,35 +80,61 @@ struct RayCostWeights {
 constexpr uint32_t kSampleRays = 2048;
 std::vector<RayQuery> sampleRays(const SceneContext& context);
 
+// What the objects traced through instances did while counting was on:
+// their entries, and the counts made inside `frozen` objects (which
+// RayCost::work weighs at frozenWork).
+struct EntryTally {
+  std::atomic<uint64_t> entries{0};
+  std::atomic<uint64_t> frozenNodes{0}, frozenPrimitives{0}, frozenBlockPrimitives{0};
+};
+
 // Counts the calls into a structure traced through an instance, while
 // counting is on (only the choice's own sample; off afterwards, so that
 // concurrent tracing never writes).
 class EntryCounting final : public Structure {
  public:
-  EntryCounting(std::unique_ptr<Structure> s, std::atomic<uint64_t>& entries, const std::atomic<bool>& on)
-      : s_(std::move(s)), entries_(entries), on_(on) {}
+  EntryCounting(std::unique_ptr<Structure> s, EntryTally& tally, const std::atomic<bool>& on, bool frozen)
+      : s_(std::move(s)), tally_(tally), on_(on), frozen_(frozen) {}
   bool intersect(RayQuery& ray, Hit& hit) const override { return s_->intersect(ray, hit); }
   bool occluded(RayQuery& ray) const override { return s_->occluded(ray); }
   bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
-    if (on_.load(std::memory_order_relaxed)) entries_.fetch_add(1, std::memory_order_relaxed);
-    return s_->intersectCounted(ray, hit, c);
+    if (!on_.load(std::memory_order_relaxed)) return s_->intersectCounted(ray, hit, c);
+    tally_.entries.fetch_add(1, std::memory_order_relaxed);
+    const TraversalCounters before = c;
+    const bool found = s_->intersectCounted(ray, hit, c);
+    if (frozen_) {
+      tally_.frozenNodes.fetch_add(c.nodesVisited - before.nodesVisited, std::memory_order_relaxed);
+      tally_.frozenPrimitives.fetch_add(c.primitiveTests - before.primitiveTests, std::memory_order_relaxed);
+      tally_.frozenBlockPrimitives.fetch_add(c.blockPrimitiveTests - before.blockPrimitiveTests,
+                                             std::memory_order_relaxed);
+    }
+    return found;
   }
   void fillStats(AccelStats& s) const override { s_->fillStats(s); }
   uint32_t clusterOf(PrimRef p) const override { return s_->clusterOf(p); }
 
  private:
   std::unique_ptr<Structure> s_;
-  std::atomic<uint64_t>& entries_;
+  EntryTally& tally_;
   const std::atomic<bool>& on_;
+  bool frozen_;
 };
 
 struct RayCost {
-  // Per ray; blockPrimitives is the part of primitives tested in leaf blocks.
+  // Per ray; blockPrimitives is the part of primitives tested in leaf
+  // blocks; the frozen* counts are the part made inside `frozen` objects
+  // entered through instances.
   double nodes = 0, primitives = 0, blockPrimitives = 0, entries = 0;
+  double frozenNodes = 0, frozenPrimitives = 0, frozenBlockPrimitives = 0;
   // The counted work alone, in node visits.
   double work(const RayCostWeights& w, AccelKind kind) const {
-    const double counted = w.node * nodes + w.primitive * (primitives - blockPrimitives) +
-                           w.blockPrimitive * blockPrimitives + w.entry * entries;
+    const auto events = [&](double n, double prims, double blocks) {
+      return w.node * n + w.primitive * (prims - blocks) + w.blockPrimitive * blocks;
+    };
+    // Each entry was one instance test of a parent's leaf, in primitives.
+    const double ownPrims = primitives - std::min(entries, primitives - blockPrimitives);
+    const double counted = events(nodes, ownPrims, blockPrimitives) + w.entry * entries -
+                           (1.0 - w.frozenWork) * events(frozenNodes, frozenPrimitives, frozenBlockPrimitives);
     return (kind == AccelKind::Frozen ? w.frozenWork : 1.0) * counted;
   }
   // The work weighed by the cache factor of a structure of `bytes`,
@@ -122,9 +152,8 @@ struct RayCost {
 std::vector<RayQuery> bounceRays(const std::vector<RayQuery>& rays, const std::vector<Hit>& hits);
 
 // Traces `rays` through s with counting, then their bounceRays; the cost
-// is per traced ray. `entries` (may be null) is read before and after, for
+// is per traced ray. `tally` (may be null) is read before and after, for
 // structures whose children are EntryCounting.
-RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays,
-                       const std::atomic<uint64_t>* entries = nullptr);
+RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, const EntryTally* tally = nullptr);
 
 }  // namespace mbrt::detail
