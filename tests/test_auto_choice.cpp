@@ -119,6 +119,24 @@ TEST(AutoCost, CacheFactorWeighsBytesAboveOneMegabyte) {
   EXPECT_DOUBLE_EQ(c.work(w, AccelKind::Stbvh), 4 + 1 + 4 * 0.25 + 0.7 - 0.2 * (3 + 4 * 0.25));
 }
 
+// A segment's test weighs 3.7 triangle tests: an object's tests made one
+// at a time are priced by its mix (one triangle and three segments: 3.025);
+// a scene of triangles keeps 1, as does an empty one.
+TEST(AutoCost, SegmentTestsWeighByTheSceneMix) {
+  Scene mixed;
+  mixed.addTriangleMesh({{0, 1, 2}}, std::vector<std::vector<Vec3f>>{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  mixed.addSegments({{0, 1}, {1, 2}, {2, 3}},
+                    std::vector<std::vector<Vec3f>>{{{0, 0, 1}, {1, 0, 1}, {2, 0, 1}, {3, 0, 1}}},
+                    std::vector<float>(4, 0.1f));
+  const detail::RayCostWeights w = detail::weightsFor(mixed);
+  EXPECT_DOUBLE_EQ(w.primitive, (1 + 3 * 3.7) / 4);
+  EXPECT_DOUBLE_EQ(w.blockPrimitive, 0.25) << "blocks hold triangles only";
+  Scene triangles;
+  triangles.addTriangleMesh({{0, 1, 2}}, std::vector<std::vector<Vec3f>>{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  EXPECT_DOUBLE_EQ(detail::weightsFor(triangles).primitive, 1.0);
+  EXPECT_DOUBLE_EQ(detail::weightsFor(Scene()).primitive, 1.0);
+}
+
 // The sample's second half: diffuse bounces from the first half's hits,
 // one per sampled ray, cycling through the hits; off the surface on the
 // side the ray came from, in that hemisphere, at the hitting ray's time.

@@ -188,7 +188,7 @@ void AutoStructure::keepCheaperOfFlat() {
   AccelStats splitStats;
   top_->fillStats(splitStats);
   topContext_->addChildStats(splitStats);
-  const double split = counted.total(RayCostWeights{}, AccelKind::Stbvh, splitStats.bytes, splitStats.leafBlockBytes);
+  const double split = counted.total(weightsFor(ctx_.scene()), AccelKind::Stbvh, splitStats.bytes, splitStats.leafBlockBytes);
   // buildObject charges the kept kind to flatBudget; flat.budget holds it.
   const std::unique_ptr<BuildBudget> flatBudget = trialBudget(ctx_.budget());
   BuiltObject flat = buildObject(ctx_.scene(), leafOptions_, *flatBudget, ctx_.structureFactory(), childFactory());

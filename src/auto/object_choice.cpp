@@ -73,7 +73,7 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   }
   if (trials.empty()) throw Error("memory budget exceeded by every candidate kind of an auto object");
   const std::vector<RayQuery> rays = sampleRays(*trials.front().context);
-  const RayCostWeights weights;
+  const RayCostWeights weights = weightsFor(scene);
   for (BuiltObject& t : trials)
     t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.bytes, t.leafBlockBytes);
   size_t best = 0;

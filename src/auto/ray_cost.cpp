@@ -19,6 +19,18 @@ struct SampleRng {
 
 }  // namespace
 
+RayCostWeights weightsFor(const Scene& scene) {
+  RayCostWeights w;
+  double triangles = 0, segments = 0;
+  for (uint32_t id = 0; id < scene.numGeometries(); ++id) {
+    const Geometry& g = scene.geometry(id);
+    if (g.type() == GeometryType::Triangles) triangles += g.numPrimitives();
+    if (g.type() == GeometryType::Segments) segments += g.numPrimitives();
+  }
+  if (segments > 0) w.primitive = (triangles + w.segment * segments) / (triangles + segments);
+  return w;
+}
+
 std::vector<RayQuery> sampleRays(const SceneContext& context) {
   std::vector<RayQuery> rays;
   const Box3f box = sceneBounds(context.scene());
