@@ -15,13 +15,14 @@
 //     -o build/time_kinds build/libmbrt_bench.a build/libmbrt_io.a build/libmbrt_scenes.a \
 //     build/libmbrt_accel.a -lpng -lz -ltbb -lembree3
 // Run: build/time_kinds SCENE SIZE KIND,KIND,... ROUNDS [RAYS_OUT [PRIMARY_SIDE]]
-//   (a KIND of auto:LEAF is auto with every object of kind LEAF, the
-//   autoLeafKind option; `embree` is Embree's robust mode, `embree-default`
-//   its default flags, `embree-static` its static BVH at the frozen time;
-//   with FROZEN=t in the environment every ray is at time t and `frozen`
-//   and `embree-static` are built there; SIZE of a built-in scene, as --size; the real scenes of the bench by
-//   name; the secondary set from PRIMARY_SIDE^2 primaries, 128 = --quick;
-//   RAYS_OUT, when given, gets the rays in `mbrt trace`'s format).
+//   A KIND of auto:LEAF is auto with every object of kind LEAF (the
+//   autoLeafKind option); `embree` is Embree's robust mode, `embree-default`
+//   its default flags, `embree-static` its static BVH at the frozen time.
+//   With FROZEN=t in the environment every ray is at time t, and `frozen`
+//   and `embree-static` are built there. SIZE is that of a built-in scene,
+//   as --size; the real scenes of the bench go by name. The secondary set
+//   comes from PRIMARY_SIDE^2 primaries (128 = --quick); RAYS_OUT, when
+//   given and not "", gets the rays in `mbrt trace`'s format.
 #include <time.h>
 
 #include <algorithm>
@@ -70,7 +71,7 @@ int main(int argc, char** argv) {
   const double size = std::atof(argv[2]);
   const std::string kinds = argv[3];
   const int rounds = std::max(1, std::atoi(argv[4]));
-  const char* dump = argc > 5 ? argv[5] : nullptr;
+  const char* dump = argc > 5 && argv[5][0] != 0 ? argv[5] : nullptr;  // "": none
   const int side = argc > 6 ? std::atoi(argv[6]) : 128;
   bool real = false;
   for (const std::string& r : tools::realBenchSceneNames()) real |= r == name;

@@ -19,6 +19,17 @@ std::unique_ptr<Accel> build(const Scene& scene, AccelKind kind, size_t budget =
   return Accel::build(scene, o);
 }
 
+// `tested` agrees with brute on the oracle's rays of `ps` (closest and any
+// hit), which hit often enough to mean something.
+void expectAgreesWithBrute(const ProceduralScene& ps, const Accel& tested, const std::string& what) {
+  auto oracle = build(*ps.scene, AccelKind::Brute);
+  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 7);
+  const auto rep = test::compareWithOracle(*oracle, tested, rays);
+  EXPECT_EQ(rep.wrong, 0u) << what << ": " << rep.firstFailure;
+  EXPECT_EQ(rep.anyWrong, 0u) << what;
+  EXPECT_GT(rep.hits, rep.rays / 10) << what;
+}
+
 // The demo: few objects in a small scene, where one tree over the whole
 // scene beats three overlapping ones under a top level (measured: the
 // decomposition takes 1.08x its thread time per ray, docs/performance.md,
@@ -28,12 +39,7 @@ TEST(AutoChoice, FewObjectsThatGainNothingAreBuiltAsOneObject) {
   auto tested = build(*ps.scene, AccelKind::Auto);
   const AccelStats s = tested->stats();
   EXPECT_NE(s.objects.find("the whole scene as one object"), std::string::npos) << s.objects;
-  auto oracle = build(*ps.scene, AccelKind::Brute);
-  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 7);
-  const auto rep = test::compareWithOracle(*oracle, *tested, rays);
-  EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
-  EXPECT_EQ(rep.anyWrong, 0u);
-  EXPECT_GT(rep.hits, rep.rays / 10);
+  expectAgreesWithBrute(ps, *tested, "demo");
 }
 
 // One rigidly translating mesh: its linear bounds are exact already, yet a
@@ -51,12 +57,7 @@ TEST(AutoChoice, ARigidlyTranslatingMeshBecomesAnInstance) {
     EXPECT_NE(s.objects.find("kept the decomposition"), std::string::npos) << size << ": " << s.objects;
     EXPECT_NE(s.objects.find(": rigid,"), std::string::npos) << size << ": " << s.objects;
     EXPECT_NE(s.objects.find("kind frozen"), std::string::npos) << size << ": " << s.objects;
-    auto oracle = build(*ps.scene, AccelKind::Brute);
-    const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 7);
-    const auto rep = test::compareWithOracle(*oracle, *tested, rays);
-    EXPECT_EQ(rep.wrong, 0u) << size << ": " << rep.firstFailure;
-    EXPECT_EQ(rep.anyWrong, 0u) << size;
-    EXPECT_GT(rep.hits, rep.rays / 10) << size;
+    expectAgreesWithBrute(ps, *tested, "translate " + std::to_string(size));
   }
 }
 
@@ -84,12 +85,7 @@ TEST(AutoChoice, SmallScenesOfManyObjectsGetTheFlatTrial) {
   const AccelStats s = tested->stats();
   EXPECT_NE(s.objects.find("kept the decomposition (cost per sampled ray / memory: decomposed"), std::string::npos)
       << s.objects;
-  auto oracle = build(*ps.scene, AccelKind::Brute);
-  const std::vector<Ray> rays = test::oracleRays(ps, test::scaled(2000, 300), test::scaled(30, 5), 7);
-  const auto rep = test::compareWithOracle(*oracle, *tested, rays);
-  EXPECT_EQ(rep.wrong, 0u) << rep.firstFailure;
-  EXPECT_EQ(rep.anyWrong, 0u);
-  EXPECT_GT(rep.hits, rep.rays / 10);
+  expectAgreesWithBrute(ps, *tested, "crowd 0.02");
 }
 
 // The cache factor: no weight up to 1 MB, a quarter more per doubling
