@@ -106,12 +106,7 @@ RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, co
   RayCost cost;
   if (rays.empty()) return cost;
   TraversalCounters counters;
-  const auto read = [&](const std::atomic<uint64_t> EntryTally::*field) {
-    return tally ? double((tally->*field).load()) : 0.0;
-  };
-  const double entries = read(&EntryTally::entries), frozenNodes = read(&EntryTally::frozenNodes),
-               frozenPrimitives = read(&EntryTally::frozenPrimitives),
-               frozenBlockPrimitives = read(&EntryTally::frozenBlockPrimitives);
+  const EntryTally::Counts before = tally ? tally->read() : EntryTally::Counts{};
   std::vector<Hit> hits(rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
     RayQuery q = rays[i];
@@ -127,10 +122,11 @@ RayCost measureRayCost(const Structure& s, const std::vector<RayQuery>& rays, co
   cost.nodes = double(counters.nodesVisited) / n;
   cost.primitives = double(counters.primitiveTests) / n;
   cost.blockPrimitives = double(counters.blockPrimitiveTests) / n;
-  cost.entries = (read(&EntryTally::entries) - entries) / n;
-  cost.frozenNodes = (read(&EntryTally::frozenNodes) - frozenNodes) / n;
-  cost.frozenPrimitives = (read(&EntryTally::frozenPrimitives) - frozenPrimitives) / n;
-  cost.frozenBlockPrimitives = (read(&EntryTally::frozenBlockPrimitives) - frozenBlockPrimitives) / n;
+  const EntryTally::Counts after = tally ? tally->read() : EntryTally::Counts{};
+  cost.entries = (after.entries - before.entries) / n;
+  cost.frozenNodes = (after.frozenNodes - before.frozenNodes) / n;
+  cost.frozenPrimitives = (after.frozenPrimitives - before.frozenPrimitives) / n;
+  cost.frozenBlockPrimitives = (after.frozenBlockPrimitives - before.frozenBlockPrimitives) / n;
   return cost;
 }
 

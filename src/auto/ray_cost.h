@@ -94,6 +94,14 @@ std::vector<RayQuery> sampleRays(const SceneContext& context);
 struct EntryTally {
   std::atomic<uint64_t> entries{0};
   std::atomic<uint64_t> frozenNodes{0}, frozenPrimitives{0}, frozenBlockPrimitives{0};
+
+  struct Counts {
+    double entries = 0, frozenNodes = 0, frozenPrimitives = 0, frozenBlockPrimitives = 0;
+  };
+  Counts read() const {
+    return {double(entries.load()), double(frozenNodes.load()), double(frozenPrimitives.load()),
+            double(frozenBlockPrimitives.load())};
+  }
 };
 
 // Counts the calls into a structure traced through an instance, while
