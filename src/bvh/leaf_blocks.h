@@ -28,10 +28,10 @@ namespace mbrt::detail {
 inline constexpr int kLeafBlockWidth = 4;
 
 // The leaf block a tree's SAH charges (BuildSettings::leafBlock): four when
-// at least 3/4 of the primitives can be tested in blocks, else one (per
-// reference: segments, instances and filtered triangles are tested one by
-// one, and larger leaves of them only cost; `hair` in the quick bench:
-// 1.58 -> 11.4 primitive tests per ray).
+// at least 3/4 of the primitives can be tested in blocks (triangles here,
+// or a static tree's segments, segment_leaf_blocks.h), else one (what is
+// tested one by one, larger leaves of it only cost; `hair` per reference
+// in the quick bench: 1.58 -> 11.4 primitive tests per ray).
 inline int leafBlockWidth(size_t blockable, size_t primitives) {
   return 4 * blockable >= 3 * primitives ? kLeafBlockWidth : 1;
 }

@@ -122,15 +122,7 @@ inline bool testRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uin
     const Segment& seg = segs[prims[i].primID];
     SegmentHit sh;
     if (!intersectSegment(ray, at[seg.v0], at[seg.v1], radii[seg.v0], radii[seg.v1], sh)) continue;
-    Hit h;
-    h.t = sh.t;
-    h.u = sh.u;
-    h.v = 0.0f;
-    h.Ng = sh.Ng;
-    h.geomID = prims[i].geomID;
-    h.primID = prims[i].primID;
-    h.instID = kInvalidId;
-    if (onHit(h)) return true;
+    if (onHit(leaf_detail::segmentHit(prims[i], sh))) return true;
   }
   return false;
 }

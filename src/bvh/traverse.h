@@ -13,6 +13,7 @@
 #include "bvh/nodes/wide_bvh.h"
 #include "bvh/leaf_blocks.h"
 #include "bvh/motion_leaf_blocks.h"
+#include "bvh/segment_leaf_blocks.h"
 #include "bvh/leaf_intersect.h"
 
 namespace mbrt::detail {
@@ -220,8 +221,9 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
 // boxTime is the ray's time in the tree's time parameter; the leaf test uses
 // ray.time, and `stored` triangles when given (valid at ray.time), and a
-// static tree's leaf `blocks` (leaf_blocks.h) or a motion tree's
-// `motionBlocks` (motion_leaf_blocks.h) when given. Count adds nodes
+// static tree's leaf `blocks` (leaf_blocks.h) or `segmentBlocks`
+// (segment_leaf_blocks.h), or a motion tree's `motionBlocks`
+// (motion_leaf_blocks.h), when given. Count adds nodes
 // visited, box tests and primitive tests.
 //
 // The nodes may be tested with another ray than the leaves, of the same
@@ -231,20 +233,31 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& nodeRay, RayQuery& leafRay,
               float boxTime, Hit* hit, TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
-              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr) {
+              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr,
+              const SegmentLeafBlocks* segmentBlocks = nullptr) {
   RayQuery& ray = leafRay;
   const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
+  const bool useSegmentBlocks = !Motion && segmentBlocks && ray.time == segmentBlocks->time;
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(nodeRay, boxTime);
   const BlockRay<kLeafBlockWidth> blockRay(ray);
+  const SegmentBlockRay<kLeafBlockWidth> segmentRay =
+      useSegmentBlocks ? SegmentBlockRay<kLeafBlockWidth>(ray) : SegmentBlockRay<kLeafBlockWidth>();
   const auto leaf = [&](const TraversalItem& item) {
-    if constexpr (!Motion)
+    if constexpr (!Motion) {
       if (useBlocks && !(item.count & TraversalItem::kInline))
         if (const TriangleLeafBlock* b = blocks->of(item.child)) {
           if constexpr (Count) counters->blockPrimitiveTests += item.count;
           if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray, blockRay);
           else return leaf_block::intersectBlocks(b, item.count, ray, blockRay, *hit);
         }
+      if (useSegmentBlocks && !(item.count & TraversalItem::kInline))
+        if (const SegmentLeafBlock* b = segmentBlocks->of(item.child)) {
+          if constexpr (Count) counters->blockPrimitiveTests += item.count;
+          if constexpr (AnyHit) return leaf_block::occludedSegmentBlocks(b, item.count, ray, segmentRay);
+          else return leaf_block::intersectSegmentBlocks(b, item.count, ray, segmentRay, *hit);
+        }
+    }
     if (motionBlocks && !(item.count & TraversalItem::kInline))
       if (const MotionLeafBlocks::Leaf* l = motionBlocks->of(item.child)) {
         if constexpr (Count) counters->blockPrimitiveTests += item.count;
@@ -276,8 +289,10 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
 template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
               TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
-              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr) {
-  return traverse<AnyHit, Count>(bvh, ctx, ray, ray, boxTime, hit, counters, stored, blocks, motionBlocks);
+              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr,
+              const SegmentLeafBlocks* segmentBlocks = nullptr) {
+  return traverse<AnyHit, Count>(bvh, ctx, ray, ray, boxTime, hit, counters, stored, blocks, motionBlocks,
+                                 segmentBlocks);
 }
 
 }  // namespace mbrt::detail

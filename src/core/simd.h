@@ -12,7 +12,8 @@
 //   box face) never decides. std::min(a, b) is vmin(b, a).
 // - Comparisons give either a bit per lane (lessMask: lane i in bit i) or
 //   a lane mask (lessLanes: all ones or all zeros), for & and |.
-// - fmadd fuses where the target has FMA (isa.h), as madd does.
+// - fmadd fuses where the target has FMA (isa.h), as madd does; sqrt is
+//   the correctly rounded root of every lane, as std::sqrt.
 // - load and store need 4 * W-byte alignment (traversal data is aligned);
 //   loadu does not. load3 reads x, y, z of a 4-lane pack and no further.
 #pragma once
@@ -79,6 +80,7 @@ struct Pack {
   friend Pack vmin(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x < y ? x : y; }); }
   friend Pack vmax(Pack a, Pack b) { return map(a, b, [](float x, float y) { return x > y ? x : y; }); }
   friend Pack abs(Pack a) { return bits(a, a, [](uint32_t x, uint32_t) { return x & 0x7FFFFFFFu; }); }
+  friend Pack sqrt(Pack a) { return map(a, a, [](float x, float) { return std::sqrt(x); }); }
   friend Pack operator&(Pack a, Pack b) { return bits(a, b, [](uint32_t x, uint32_t y) { return x & y; }); }
   friend Pack operator|(Pack a, Pack b) { return bits(a, b, [](uint32_t x, uint32_t y) { return x | y; }); }
   friend Pack clearLastLane(Pack a) {
@@ -176,6 +178,7 @@ struct Pack<4> {
   friend Pack vmin(Pack a, Pack b) { return {_mm_min_ps(a.v, b.v)}; }
   friend Pack vmax(Pack a, Pack b) { return {_mm_max_ps(a.v, b.v)}; }
   friend Pack abs(Pack a) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)}; }
+  friend Pack sqrt(Pack a) { return {_mm_sqrt_ps(a.v)}; }
   friend Pack operator&(Pack a, Pack b) { return {_mm_and_ps(a.v, b.v)}; }
   friend Pack operator|(Pack a, Pack b) { return {_mm_or_ps(a.v, b.v)}; }
   friend Pack clearLastLane(Pack a) { return {_mm_and_ps(a.v, _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)))}; }
@@ -216,6 +219,7 @@ struct Pack<8> {
   friend Pack vmin(Pack a, Pack b) { return {_mm256_min_ps(a.v, b.v)}; }
   friend Pack vmax(Pack a, Pack b) { return {_mm256_max_ps(a.v, b.v)}; }
   friend Pack abs(Pack a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
+  friend Pack sqrt(Pack a) { return {_mm256_sqrt_ps(a.v)}; }
   friend Pack operator&(Pack a, Pack b) { return {_mm256_and_ps(a.v, b.v)}; }
   friend Pack operator|(Pack a, Pack b) { return {_mm256_or_ps(a.v, b.v)}; }
   friend Pack clearLastLane(Pack a) {

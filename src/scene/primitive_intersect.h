@@ -19,6 +19,19 @@ inline bool accept(const Geometry& g, const RayQuery& ray, const Hit& candidate)
   return g.filter()(FilterArgs{r, candidate, g.userData()});
 }
 
+// The hit of segment `ref` that the segment test found.
+inline Hit segmentHit(PrimRef ref, const SegmentHit& sh) {
+  Hit h;
+  h.t = sh.t;
+  h.u = sh.u;
+  h.v = 0.0f;
+  h.Ng = sh.Ng;
+  h.geomID = ref.geomID;
+  h.primID = ref.primID;
+  h.instID = kInvalidId;
+  return h;
+}
+
 // Candidate hit of a triangle or segment (not instances); false on a miss.
 inline bool candidate(const Geometry& g, PrimRef ref, const RayQuery& ray, Hit& out) {
   uint32_t s;
@@ -42,10 +55,8 @@ inline bool candidate(const Geometry& g, PrimRef ref, const RayQuery& ray, Hit& 
     SegmentHit sh;
     if (!intersectSegment(ray, vertex(seg.v0), vertex(seg.v1), g.radii()[seg.v0], g.radii()[seg.v1], sh))
       return false;
-    out.t = sh.t;
-    out.u = sh.u;
-    out.v = 0.0f;
-    out.Ng = sh.Ng;
+    out = segmentHit(ref, sh);
+    return true;
   }
   out.geomID = ref.geomID;
   out.primID = ref.primID;

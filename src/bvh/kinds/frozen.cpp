@@ -1,5 +1,7 @@
 #include "bvh/kinds/frozen.h"
 
+#include <algorithm>
+
 #include "bvh/kinds/bvh_structure.h"
 #include "bvh/sah_cost.h"
 
@@ -34,10 +36,17 @@ class Frozen final : public WideBvhStructure<N, false> {
     const std::vector<PrimRef> prims = ctx.primitives();
     Base::stored_ = FixedTimeTriangles(ctx, time_);
     // Leaves charged per block of four (Embree's Triangle4 SAH) and laid
-    // out as blocks (leaf_blocks.h) when most primitives are stored triangles.
-    const int leafBlock = leafBlockWidth(Base::stored_.vertices.size() / 3, prims.size());
+    // out as blocks when most primitives are stored triangles
+    // (leaf_blocks.h) or segments (segment_leaf_blocks.h).
+    const size_t triangles = Base::stored_.vertices.size() / 3;
+    const size_t segments = size_t(std::count_if(prims.begin(), prims.end(), [&](PrimRef p) {
+      return blocksSegments(ctx.geometry(p.geomID), time_);
+    }));
+    const bool segmentTree = segments > triangles;
+    const int leafBlock = leafBlockWidth(std::max(triangles, segments), prims.size());
     buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_, nullptr, true, leafBlock);
-    Base::blocks_ = TriangleLeafBlocks(ctx, bvh_, Base::stored_, time_);
+    if (segmentTree) Base::segmentBlocks_ = SegmentLeafBlocks(ctx, bvh_, time_);
+    else Base::blocks_ = TriangleLeafBlocks(ctx, bvh_, Base::stored_, time_);
     if (leafBlock > 1) {
       // No leaf is kept in a node (wide_layout.h), so every leaf of stored
       // triangles reads its blocks; the few others (a geometry with a filter
@@ -51,9 +60,10 @@ class Frozen final : public WideBvhStructure<N, false> {
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
-    sums.bytes += Base::stored_.bytes() + Base::blocks_.bytes();
+    const size_t leafBytes = Base::stored_.bytes() + Base::blocks_.bytes() + Base::segmentBlocks_.bytes();
+    sums.bytes += leafBytes;
     sums.fill(s, sceneSahArea(ctx_));
-    s.leafBlockBytes = Base::stored_.bytes() + Base::blocks_.bytes();
+    s.leafBlockBytes = leafBytes;
   }
 
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
