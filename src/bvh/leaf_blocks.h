@@ -119,6 +119,20 @@ struct TriangleLeafBlocks {
 
 namespace leaf_block {
 
+// The closest hit that test(onHit) reports, as intersectLeaf keeps it:
+// each hit replaces `hit` and shrinks ray.tfar; true when there was one.
+template <class Test>
+inline bool closestOf(RayQuery& ray, Hit& hit, Test&& test) {
+  bool found = false;
+  test([&](const Hit& h) {
+    hit = h;
+    ray.tfar = h.t;
+    found = true;
+    return false;
+  });
+  return found;
+}
+
 // The lanes in `valid` of one block: onHit(hit) for each candidate hit in
 // lane order, as testing the lanes' triangles one by one would call it;
 // stops when onHit returns true. ref(lane) is the lane's reference; r is
@@ -170,14 +184,7 @@ inline bool testBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery
 // Closest hit among the leaf's triangles (as intersectLeaf).
 inline bool intersectBlocks(const TriangleLeafBlock* blocks, uint32_t count, RayQuery& ray,
                             const BlockRay<kLeafBlockWidth>& r, Hit& hit) {
-  bool found = false;
-  testBlocks(blocks, count, ray, r, [&](const Hit& h) {
-    hit = h;
-    ray.tfar = h.t;
-    found = true;
-    return false;
-  });
-  return found;
+  return closestOf(ray, hit, [&](auto&& onHit) { return testBlocks(blocks, count, ray, r, onHit); });
 }
 
 // Any hit among the leaf's triangles (as occludedLeaf).

@@ -136,14 +136,8 @@ inline bool testMotionBlocks(const SceneContext& ctx, const MotionLeafBlocks& mb
 inline bool intersectMotionBlocks(const SceneContext& ctx, const MotionLeafBlocks& mb,
                                   const MotionLeafBlocks::Leaf& leaf, const PrimRef* prims, uint32_t count,
                                   RayQuery& ray, const BlockRay<kLeafBlockWidth>& r, Hit& hit) {
-  bool found = false;
-  testMotionBlocks(ctx, mb, leaf, prims, count, ray, r, [&](const Hit& h) {
-    hit = h;
-    ray.tfar = h.t;
-    found = true;
-    return false;
-  });
-  return found;
+  return closestOf(ray, hit,
+                   [&](auto&& onHit) { return testMotionBlocks(ctx, mb, leaf, prims, count, ray, r, onHit); });
 }
 
 inline bool occludedMotionBlocks(const SceneContext& ctx, const MotionLeafBlocks& mb,

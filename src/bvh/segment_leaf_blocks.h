@@ -127,14 +127,7 @@ inline bool testSegmentBlocks(const SegmentLeafBlock* blocks, uint32_t count, Ra
 // Closest hit among the leaf's segments (as intersectLeaf).
 inline bool intersectSegmentBlocks(const SegmentLeafBlock* blocks, uint32_t count, RayQuery& ray,
                                    const SegmentBlockRay<kLeafBlockWidth>& r, Hit& hit) {
-  bool found = false;
-  testSegmentBlocks(blocks, count, ray, r, [&](const Hit& h) {
-    hit = h;
-    ray.tfar = h.t;
-    found = true;
-    return false;
-  });
-  return found;
+  return closestOf(ray, hit, [&](auto&& onHit) { return testSegmentBlocks(blocks, count, ray, r, onHit); });
 }
 
 // Any hit among the leaf's segments (as occludedLeaf).
