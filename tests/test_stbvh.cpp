@@ -43,7 +43,6 @@ struct Timing final : detail::TemporalSource {
     out = ref;
     out.bounds = detail::linearBounds(ctx, ref.prim, r);
     out.active = detail::activeSegments(ctx, ref.prim, r);
-    out.range = r;
     return true;
   }
 };
@@ -64,7 +63,6 @@ Costs rootCosts(const Scene& scene) {
     r.prim = p;
     r.bounds = detail::linearBounds(ctx, p, {0.0f, 1.0f});
     r.active = detail::activeSegments(ctx, p, {0.0f, 1.0f});
-    r.total = detail::totalSegments(ctx, p);
     refs.push_back(r);
   }
   const detail::RefSetInfo info = detail::summarize(refs);

@@ -12,8 +12,7 @@ void buildTopTree(const SceneContext& ctx, std::span<const LBounds> items, TopTr
     BuildRef& r = refs[i];
     r.bounds = items[i];
     r.prim = {0, uint32_t(i)};
-    r.active = r.total = 1;  // an item costs one entry into its tree
-    r.range = {0.0f, 1.0f};
+    r.active = 1;  // an item costs one entry into its tree
   }
   BuildSettings settings = settingsFor(ctx.options(), {0.0f, 1.0f});
   settings.maxLeafSize = 1;  // one item per leaf: each has its own transform and tree

@@ -130,10 +130,6 @@ Box3f transformBox(const Affine3f& xfm, const Box3f& box) {
   return widen(r);
 }
 
-uint32_t totalSegments(const SceneContext& ctx, PrimRef ref) {
-  return std::max(1u, ctx.geometry(ref.geomID).numSteps() - 1);
-}
-
 uint32_t activeSegments(const SceneContext& ctx, PrimRef ref, TimeRange range) {
   const Geometry& g = ctx.geometry(ref.geomID);
   if (g.numSteps() <= 1) return 1;

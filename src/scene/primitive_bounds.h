@@ -48,9 +48,8 @@ LBounds toGlobal(const LBounds& local, TimeRange range);
 // The box of a box's corners under an affine map.
 Box3f transformBox(const Affine3f& xfm, const Box3f& box);
 
-// Number of motion segments of the primitive's geometry (S - 1, at least 1
-// for the MBSAH counts) and of them those overlapping `range`.
-uint32_t totalSegments(const SceneContext& ctx, PrimRef ref);
+// Number of the motion segments of the primitive's geometry (S - 1, at
+// least 1 for the MBSAH counts) that overlap `range`.
 uint32_t activeSegments(const SceneContext& ctx, PrimRef ref, TimeRange range);
 
 }  // namespace mbrt::detail

@@ -1,5 +1,6 @@
 #include "bvh/heuristics/temporal_split.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -29,33 +30,32 @@ bool remakeRef(const BuildRef& ref, TimeRange half, const TemporalSource& source
 }  // namespace
 
 bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const TemporalSource& source, float& time) {
+  // The steps are those of the reference with the most active segments,
+  // ties to the least (geomID, primID). Steps are per geometry, so only the
+  // geometry of that reference matters: each run of one geometry (references
+  // come in such runs) gives its most active segments, and the runs are
+  // compared by (active, geomID). The source is asked once per run.
   float shortest = kInf;
-  const BuildRef* most = nullptr;
-  uint32_t mostSegments = 0;
+  bool found = false;
+  uint32_t mostActive = 0, mostGeom = 0, mostSegments = 0;
   TimeRange mostRange;
-  // Steps are per geometry and references come in runs of one geometry:
-  // ask the source once per run.
-  const BuildRef* run = nullptr;
-  uint32_t segments = 0;
-  TimeRange steps;
-  for (const BuildRef& r : refs) {
-    if (!run || r.prim.geomID != run->prim.geomID) {
-      run = &r;
-      steps = source.stepRange(r.prim, segments);
-      if (segments > 0) shortest = std::min(shortest, steps.size() / float(segments));
-    }
+  for (size_t i = 0; i < refs.size();) {
+    const uint32_t geom = refs[i].prim.geomID;
+    uint32_t segments = 0;
+    const TimeRange steps = source.stepRange(refs[i].prim, segments);
+    uint32_t active = 0;
+    for (; i < refs.size() && refs[i].prim.geomID == geom; ++i) active = std::max(active, refs[i].active);
     if (segments == 0) continue;  // static: no steps to split at
-    const bool better = !most || r.active > most->active ||
-                        (r.active == most->active &&
-                         (r.prim.geomID < most->prim.geomID ||
-                          (r.prim.geomID == most->prim.geomID && r.prim.primID < most->prim.primID)));
-    if (better) {
-      most = &r;
+    shortest = std::min(shortest, steps.size() / float(segments));
+    if (!found || active > mostActive || (active == mostActive && geom < mostGeom)) {
+      found = true;
+      mostActive = active;
+      mostGeom = geom;
       mostSegments = segments;
       mostRange = steps;
     }
   }
-  if (!most || !(range.size() > shortest)) return false;
+  if (!found || !(range.size() > shortest)) return false;
   // Nearest step to the centre, then moved strictly inside the range.
   const float c = range.center();
   int k = int(std::lround((c - mostRange.lo) / mostRange.size() * float(mostSegments)));

@@ -41,8 +41,6 @@ struct SegmentRefs final : RefMaker {
     out.prim = prim;
     out.bounds = linearBounds(ctx, prim, range);
     out.active = activeSegments(ctx, prim, range);
-    out.total = totalSegments(ctx, prim);
-    out.range = {0.0f, 1.0f};  // tree parameter: local time
     return true;
   }
 };

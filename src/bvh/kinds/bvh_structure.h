@@ -24,8 +24,6 @@ struct ShutterRefs final : RefMaker {
     out.prim = prim;
     out.bounds = linearBounds(ctx, prim, {0.0f, 1.0f});
     out.active = activeSegments(ctx, prim, {0.0f, 1.0f});
-    out.total = totalSegments(ctx, prim);
-    out.range = {0.0f, 1.0f};
     return true;
   }
 };
@@ -50,8 +48,6 @@ struct SceneTemporalSource final : TemporalSource {
     out.prim = ref.prim;
     out.bounds = linearBounds(ctx, ref.prim, range);
     out.active = activeSegments(ctx, ref.prim, range);
-    out.total = ref.total;
-    out.range = range;
     return true;
   }
 };

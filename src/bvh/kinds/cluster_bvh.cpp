@@ -22,8 +22,6 @@ struct FuzzyRefs final : RefMaker {
     out.prim = prim;
     out.bounds = LBounds(boxes[prim.primID]);
     out.active = 1;
-    out.total = 1;
-    out.range = {0.0f, 1.0f};
     return true;
   }
 };

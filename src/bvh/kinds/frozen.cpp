@@ -18,8 +18,6 @@ struct FrozenRefs final : RefMaker {
     out.prim = prim;
     out.bounds = LBounds(widen(boxAt(ctx, prim, time)));
     out.active = 1;  // a static scene: one segment per primitive
-    out.total = 1;
-    out.range = {0.0f, 1.0f};
     return true;
   }
 };

@@ -94,11 +94,23 @@ void WideNode<N, true>::encode(const LBounds (&lanes)[N], uint32_t lanesPresent)
       // double, 1 / step is finite even for a denormal step.
       const double inv = steps[e] > 0.0 ? 1.0 / steps[e] : 0.0;
       const double out = margin * inv + kLevelSlack;
+      alignas(32) float down[N], up[N];
       for (int l = 0; l < N; ++l) {  // offsets exact in double
-        const double down = std::floor((double(planes[2 * e][l]) - at[e]) * inv - out);
-        const double up = std::ceil((double(planes[2 * e + 1][l]) - at[e]) * inv + out);
-        q[a][2 * e][l] = uint8_t(down > 0.0 ? std::min(down, kLevels) : 0.0);  // NaN: 0
-        q[a][2 * e + 1][l] = uint8_t(up < kLevels ? std::max(up, 0.0) : kLevels);  // NaN: 255
+        down[l] = float(std::floor((double(planes[2 * e][l]) - at[e]) * inv - out));
+        up[l] = float(std::ceil((double(planes[2 * e + 1][l]) - at[e]) * inv + out));
+      }
+      // Clamped to the levels in lanes, without branches. The levels are
+      // whole numbers, exact in float below 2^24 and still on the same side
+      // of 0 and 255 above. vmax / vmin keep their second operand on NaN:
+      // a NaN lower level becomes 0, a NaN upper level 255.
+      using P = Pack<N>;
+      const P zero = P::set1(0.0f), top = P::set1(float(kLevels));
+      alignas(32) int32_t levels[2][N];
+      vmin(vmax(P::load(down), zero), top).storeTruncated(levels[0]);
+      vmax(vmin(P::load(up), top), zero).storeTruncated(levels[1]);
+      for (int l = 0; l < N; ++l) {
+        q[a][2 * e][l] = uint8_t(levels[0][l]);
+        q[a][2 * e + 1][l] = uint8_t(levels[1][l]);
       }
     }
     for (int l = 0; l < N; ++l)
