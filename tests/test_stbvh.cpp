@@ -148,6 +148,46 @@ TEST(Mbsah, CurvedMotionTakesTheTemporalSplit) {
   EXPECT_TRUE(left && right);
 }
 
+// The split time snaps to the steps of the reference with the most active
+// segments (STBVH §3.3), ties to the least geometry: here geometry 0 has 4
+// segments (the centre is its step 0.5) and geometry 1 has 3 (its step
+// nearest the centre is 2/3), their references in runs in either order.
+TEST(Stbvh, SplitTimeFollowsTheMostActiveReference) {
+  struct Steps final : detail::TemporalSource {
+    TimeRange stepRange(detail::PrimRef p, uint32_t& segments) const override {
+      segments = p.geomID == 0 ? 4 : 3;
+      return {0.0f, 1.0f};
+    }
+    bool remake(const detail::BuildRef&, TimeRange, detail::BuildRef&) const override { return false; }
+  };
+  const Steps steps;
+  auto ref = [](uint32_t geom, uint32_t prim, uint32_t active) {
+    detail::BuildRef r;
+    r.prim = {geom, prim};
+    r.active = active;
+    return r;
+  };
+  auto splitTime = [&](const std::vector<detail::BuildRef>& refs) {
+    float time = -1.0f;
+    EXPECT_TRUE(detail::temporalSplitTime(refs, {0.0f, 1.0f}, steps, time));
+    return time;
+  };
+  const float step0 = 0.5f, step1 = 2.0f / 3.0f;
+  // The most active reference decides, wherever it sits in its run.
+  EXPECT_EQ(splitTime({ref(0, 0, 2), ref(0, 1, 2), ref(1, 0, 1), ref(1, 1, 3), ref(1, 2, 1)}), step1);
+  EXPECT_EQ(splitTime({ref(1, 0, 1), ref(1, 1, 1), ref(0, 0, 1), ref(0, 1, 2)}), step0);
+  // Ties go to the least geometry, whichever run comes first.
+  EXPECT_EQ(splitTime({ref(1, 0, 2), ref(0, 5, 2), ref(0, 6, 1)}), step0);
+  EXPECT_EQ(splitTime({ref(0, 9, 2), ref(1, 0, 2)}), step0);
+  // A geometry in two runs: its later run counts too.
+  EXPECT_EQ(splitTime({ref(0, 0, 1), ref(1, 0, 2), ref(0, 1, 3)}), step0);
+  EXPECT_EQ(splitTime({ref(1, 0, 1), ref(0, 0, 2), ref(1, 1, 3)}), step1);
+  // A range no longer than the shortest segment (1/4) takes no split.
+  float time = -1.0f;
+  EXPECT_FALSE(detail::temporalSplitTime(std::vector<detail::BuildRef>{ref(0, 0, 1), ref(1, 0, 1)},
+                                         {0.25f, 0.5f}, steps, time));
+}
+
 // A ray exactly on an inner split time sees only the right-hand lanes; a ray
 // at time 1 still sees the last lanes; hits match brute force there.
 TEST(Stbvh, TimeBoundariesAreExact) {
