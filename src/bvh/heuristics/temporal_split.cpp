@@ -32,9 +32,10 @@ bool remakeRef(const BuildRef& ref, TimeRange half, const TemporalSource& source
 bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const TemporalSource& source, float& time) {
   // The steps are those of the reference with the most active segments,
   // ties to the least (geomID, primID). Steps are per geometry, so only the
-  // geometry of that reference matters: each run of one geometry (references
-  // come in such runs) gives its most active segments, and the runs are
-  // compared by (active, geomID). The source is asked once per run.
+  // geometry of that reference matters: each run of one geometry's
+  // references gives its most active segments, and the runs are compared by
+  // (active, geomID), so a geometry that comes back in a later run counts
+  // there too. The source is asked once per run, not per reference.
   float shortest = kInf;
   bool found = false;
   uint32_t mostActive = 0, mostGeom = 0, mostSegments = 0;
