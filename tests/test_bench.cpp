@@ -214,9 +214,15 @@ TEST(Bench, EverySetIsThereWithItsHitRate) {
   EXPECT_EQ(sets[bench::RaySet::Secondary].size(), sets.bounces + sets.inward);
   EXPECT_GT(bruteRate(*ps.scene, sets[bench::RaySet::Secondary], false), primaryRate)
       << "the secondary set mostly hits, the camera mostly sees sky here";
-  // Every frozen-set ray sits on a frozen time.
+  // Every frozen-set ray sits on a frozen time, the rays grouped by time
+  // (each frozen tree traces its rays in one run), every time present.
   for (const Ray& r : sets[bench::RaySet::Frozen])
     EXPECT_NE(std::find(times.begin(), times.end(), r.time), times.end());
+  const std::vector<Ray>& frozen = sets[bench::RaySet::Frozen];
+  EXPECT_TRUE(std::is_sorted(frozen.begin(), frozen.end(), [](const Ray& a, const Ray& b) { return a.time < b.time; }));
+  for (float t : times)
+    EXPECT_NE(std::find_if(frozen.begin(), frozen.end(), [t](const Ray& r) { return r.time == t; }), frozen.end())
+        << "time " << t;
 }
 
 TEST(Bench, TheReportedHitRatesAreTheRaysHitRates) {

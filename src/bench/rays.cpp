@@ -2,7 +2,7 @@
 // random times; secondary rays (a cosine bounce from every primary hit, and
 // rays from all around the scene into its bounds); shadow rays from the
 // primary hits towards an area light and towards other hit points; and the
-// secondary set again from primaries at the frozen times.
+// secondary set again from primaries at the frozen times, grouped by time.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -190,6 +190,11 @@ RaySets makeRaySets(const ProceduralScene& ps, const Target& reference, int widt
   reference.trace(frozenPrimary, hits);
   secondaryRays(surfacePoints(frozenPrimary, hits), ps.camera, n, seed ^ 0x5bd1e995u, eps, frozenTimes, out,
                 RaySet::Frozen);
+  // Grouped by time, as a renderer with a static tree per frame time traces
+  // each time's rays on its tree: the frozen rows' K trees are then walked
+  // one after the other, not all at once through a shared cache.
+  std::vector<Ray>& frozen = out.sets[size_t(RaySet::Frozen)];
+  std::stable_sort(frozen.begin(), frozen.end(), [](const Ray& a, const Ray& b) { return a.time < b.time; });
   return out;
 }
 
