@@ -17,12 +17,13 @@
 // Run: build/time_kinds SCENE SIZE KIND,KIND,... ROUNDS [RAYS_OUT [PRIMARY_SIDE]]
 //   A KIND of auto:LEAF is auto with every object of kind LEAF (the
 //   autoLeafKind option); `embree` is Embree's robust mode, `embree-default`
-//   its default flags, `embree-static` its static BVH at the frozen time.
+//   its default flags, `embree-static` its static BVH at the frozen time
+//   (`embree-static-robust`: that BVH with its robust flag).
 //   With FROZEN=t in the environment every ray is at time t, and `frozen`
-//   and `embree-static` are built there. SIZE is that of a built-in scene,
-//   as --size; the real scenes of the bench go by name. The secondary set
-//   comes from PRIMARY_SIDE^2 primaries (128 = --quick); RAYS_OUT, when
-//   given and not "", gets the rays in `mbrt trace`'s format.
+//   and the `embree-static` rows are built there. SIZE is that of a
+//   built-in scene, as --size; the real scenes of the bench go by name.
+//   The secondary set comes from PRIMARY_SIDE^2 primaries (128 = --quick);
+//   RAYS_OUT, when given and not "", gets the rays in `mbrt trace`'s format.
 #include <time.h>
 
 #include <algorithm>
@@ -104,8 +105,10 @@ int main(int argc, char** argv) {
     const size_t colon = names.back().find(':');
     const bool embreeDefault = names.back() == "embree-default";  // `embree` alone: robust mode
     const bool embreeStatic = names.back() == "embree-static";
-    const auto kind = embreeDefault || embreeStatic ? std::optional<AccelKind>(AccelKind::Embree)
-                                                    : parseAccelKind(names.back().substr(0, colon));
+    const bool embreeStaticRobust = names.back() == "embree-static-robust";
+    const bool embree = embreeDefault || embreeStatic || embreeStaticRobust;
+    const auto kind = embree ? std::optional<AccelKind>(AccelKind::Embree)
+                             : parseAccelKind(names.back().substr(0, colon));
     const auto leafKind =
         colon == std::string::npos ? std::optional<AccelKind>() : parseAccelKind(names.back().substr(colon + 1));
     if (!kind || (colon != std::string::npos && (!leafKind || *kind != AccelKind::Auto))) {
@@ -115,6 +118,7 @@ int main(int argc, char** argv) {
     o.kind = *kind;
     if (embreeDefault) o.embreeMode = BuildOptions::EmbreeMode::Default;
     if (embreeStatic) o.embreeMode = BuildOptions::EmbreeMode::Static;
+    if (embreeStaticRobust) o.embreeMode = BuildOptions::EmbreeMode::StaticRobust;
     if (frozenTime) o.frozenTime = *frozenTime;
     o.autoLeafKind = leafKind;
     const auto t0 = std::chrono::steady_clock::now();

@@ -40,7 +40,8 @@ mbrt_bench_test(scaling_sizes_without_scaling 2 "--scaling-sizes needs --scaling
 set(MBRT_BENCH_EXTRA -DNO_ESCAPES=1 "-DFILES=${MBRT_BENCH_OUT}/tiny.json={|${MBRT_BENCH_OUT}/tiny.svg=<svg")
 mbrt_bench_test(tiny 0
   "Rays: primary [0-9]+ \\(hit [0-9.]+%\\), secondary [0-9]+ \\(hit [0-9.]+%\\).*shadow [0-9]+ \\(occluded [0-9.]+%\\), frozen [0-9]+ \\(hit [0-9.]+%\\).*\\| stbvh \\|.*Geometric mean over scenes"
-  --quick --scene translate --size 0.005 --accel bvh-interp,stbvh,frozen,embree,embree-robust,embree-static
+  --quick --scene translate --size 0.005
+  --accel bvh-interp,stbvh,frozen,embree,embree-robust,embree-static,embree-static-robust
   --repeats 1 --rays 24 --frozen-times 2 --json ${MBRT_BENCH_OUT}/tiny.json --svg ${MBRT_BENCH_OUT}/tiny.svg)
 
 # --scaling at two tiny sizes: one row per size, and its chart.

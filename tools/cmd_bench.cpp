@@ -210,8 +210,8 @@ void registerBenchCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("bench", "Benchmark every structure, Embree and the frozen bound on the same rays");
   cmd->add_option("--scene", args->scenes, "Comma-separated scenes: built-in names or files/globs as --scene elsewhere (default: the procedural suite)");
   cmd->add_option("--accel", args->accels,
-                  "Comma-separated rows: accel kinds, embree (Embree's defaults), embree-robust, embree-static "
-                  "(default: all available but brute)");
+                  "Comma-separated rows: accel kinds, embree (Embree's defaults), embree-robust, embree-static, "
+                  "embree-static-robust (default: all available but brute)");
   cmd->add_flag("--quick", args->quick, "Small scenes and ray sets: the whole suite in a few minutes");
   cmd->add_option("--size", args->size, "Scene size knob (1 = the default sizes)")
       ->check(kFinitePositive)

@@ -25,7 +25,7 @@ namespace mbrt::bench {
 // most (diffuse bounces from every primary hit, and rays from around the
 // scene into its bounds). Shadow rays go through `occluded`. Frozen is the
 // secondary set built from primaries at the frozen times (each ray sits on
-// one), the set `frozen` and `embree-static` trace.
+// one), the set `frozen`, `embree-static` and `embree-static-robust` trace.
 enum class RaySet { Primary, Secondary, Shadow, Frozen };
 constexpr int kRaySets = 4;
 constexpr std::array<RaySet, kRaySets> kAllRaySets{RaySet::Primary, RaySet::Secondary, RaySet::Shadow, RaySet::Frozen};
@@ -150,7 +150,7 @@ struct Report {
 };
 
 // Bench row names --accel takes: the kind names, "embree" (Embree's
-// defaults), "embree-robust" and "embree-static".
+// defaults), "embree-robust", "embree-static" and "embree-static-robust".
 std::vector<std::string> candidateNames();
 // The candidates for options.accels (or the default list). Throws Error for
 // an unknown name.
@@ -168,7 +168,7 @@ Report run(const Options& options, const std::vector<ProceduralScene>& scenes);
 // singleKinds: leave out `auto`, which combines kinds.
 const Result* bestMbrt(const Report& report, const std::string& scene, RaySet set, bool singleKinds = false);
 // Per set, per peer that ran: primary/secondary/shadow over embree and
-// embree-robust, frozen over embree-static.
+// embree-robust, frozen over embree-static and embree-static-robust.
 std::vector<Geomean> geomeans(const Report& report);
 
 std::string toMarkdown(const Report& report);

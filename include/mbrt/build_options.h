@@ -38,10 +38,12 @@ struct BuildOptions {
   int maxInstanceDepth = 8;   // nesting of instances
   // `embree` only: Robust (RTC_SCENE_FLAG_ROBUST, watertight as mbrt; what the
   // oracle tests compare with), Default (Embree's default flags, what its
-  // users run) or Static (default flags, Embree's static BVH over the scene
-  // frozen at frozenTime). A field, not kinds: no test that walks every kind
-  // meets a non-watertight structure, and no kind list changes.
-  enum class EmbreeMode : uint8_t { Robust, Default, Static } embreeMode = EmbreeMode::Robust;
+  // users run), Static (default flags, Embree's static BVH over the scene
+  // frozen at frozenTime) or StaticRobust (that static BVH built with
+  // RTC_SCENE_FLAG_ROBUST: the watertight kernel-to-kernel peer of `frozen`).
+  // A field, not kinds: no test that walks every kind meets a non-watertight
+  // structure, and no kind list changes.
+  enum class EmbreeMode : uint8_t { Robust, Default, Static, StaticRobust } embreeMode = EmbreeMode::Robust;
   // `auto` only: a part becomes an instance when one affine key per step
   // reproduces every vertex within this fraction of the part's diagonal
   // (0: only exact fits), and the kind of every object below the top level

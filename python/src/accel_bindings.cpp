@@ -237,7 +237,8 @@ BuildOptions buildOptions(const std::string& kind, int branching, int maxLeafSiz
   if (embreeMode == "robust") o.embreeMode = BuildOptions::EmbreeMode::Robust;
   else if (embreeMode == "default") o.embreeMode = BuildOptions::EmbreeMode::Default;
   else if (embreeMode == "static") o.embreeMode = BuildOptions::EmbreeMode::Static;
-  else fail("embree_mode must be 'robust', 'default' or 'static', got '" + embreeMode + "'");
+  else if (embreeMode == "static-robust") o.embreeMode = BuildOptions::EmbreeMode::StaticRobust;
+  else fail("embree_mode must be 'robust', 'default', 'static' or 'static-robust', got '" + embreeMode + "'");
   return o;
 }
 

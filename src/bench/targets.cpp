@@ -119,6 +119,7 @@ std::vector<std::string> candidateNames() {
     names.push_back(std::string(toString(k)));
   names.push_back("embree-robust");
   names.push_back("embree-static");
+  names.push_back("embree-static-robust");
   return names;
 }
 
@@ -130,20 +131,22 @@ std::vector<Candidate> defaultCandidates(const Options& options, std::vector<std
     if (available(AccelKind::Embree)) {
       names.push_back("embree-robust");
       names.push_back("embree-static");
+      names.push_back("embree-static-robust");
     }
   }
   const int K = std::max(1, options.frozenTimes);
   std::vector<Candidate> out;
   for (const std::string& n : names) {
-    const bool embreeMode = n == "embree-robust" || n == "embree-static";
+    const bool embreeMode = n == "embree-robust" || n == "embree-static" || n == "embree-static-robust";
     const auto kind = embreeMode ? std::optional<AccelKind>(AccelKind::Embree) : parseAccelKind(n);
     if (!kind) throw Error("unknown accel '" + n + "'");
     if (!available(*kind)) {
       if (notes) notes->push_back(n + ": not available in this build");
       continue;
     }
-    if (n == "embree-static")
-      out.push_back(frozenCandidate(n, AccelKind::Embree, EmbreeMode::Static, K));
+    if (n == "embree-static" || n == "embree-static-robust")
+      out.push_back(frozenCandidate(n, AccelKind::Embree,
+                                    n == "embree-static" ? EmbreeMode::Static : EmbreeMode::StaticRobust, K));
     else if (*kind == AccelKind::Frozen)
       out.push_back(frozenCandidate(n, AccelKind::Frozen, EmbreeMode::Default, K));
     else

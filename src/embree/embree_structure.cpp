@@ -38,7 +38,9 @@
 // default flags over the scene frozen at BuildOptions::frozenTime: one time
 // step per geometry (vertices and transforms evaluated at that time, always
 // copied), geometries not alive then left out, so that Embree builds its
-// static BVH (the bound `frozen` is compared with). All use medium build
+// static BVH (the bound `frozen` is compared with); StaticRobust is that
+// static BVH with RTC_SCENE_FLAG_ROBUST (the watertight peer of `frozen`,
+// whose slab and triangle tests are always robust). All use medium build
 // quality (Embree's default, which is its motion-blur builder with temporal
 // splits for moving geometry).
 //
@@ -131,7 +133,7 @@ class EmbreeStructure final : public Structure {
       // Embree reports an instanced hit's Ng in object space: to world
       // space with the inverse transpose of the transform at the ray's time
       // (at the frozen time for a static scene).
-      const float t = mode_ == BuildOptions::EmbreeMode::Static ? frozenTime_ : q.time;
+      const float t = isStatic() ? frozenTime_ : q.time;
       const Affine3f inv = ctx_.geometry(hit.instID).transformAt(t).inverse();
       const Vec3f n = hit.Ng;
       hit.Ng = {dot(inv.vx, n), dot(inv.vy, n), dot(inv.vz, n)};
@@ -161,11 +163,16 @@ class EmbreeStructure final : public Structure {
   }
 
  private:
-  bool isStatic() const { return mode_ == BuildOptions::EmbreeMode::Static; }
+  bool isStatic() const {
+    return mode_ == BuildOptions::EmbreeMode::Static || mode_ == BuildOptions::EmbreeMode::StaticRobust;
+  }
+  bool isRobust() const {
+    return mode_ == BuildOptions::EmbreeMode::Robust || mode_ == BuildOptions::EmbreeMode::StaticRobust;
+  }
 
   void buildScene(Device& d, size_t budget) {
     scene_ = rtcNewScene(d.device);
-    rtcSetSceneFlags(scene_, mode_ == BuildOptions::EmbreeMode::Robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+    rtcSetSceneFlags(scene_, isRobust() ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
     const Scene& scene = ctx_.scene();
     for (uint32_t id = 0; id < scene.numGeometries(); ++id) addGeometry(d, id, ctx_.geometry(id));

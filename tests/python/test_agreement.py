@@ -46,6 +46,21 @@ def test_embree_agrees_with_brute(mixed):
     assert a.hit.sum() > 2000 and differ.sum() <= 1e-3 * a.hit.sum(), f"{differ.sum()} rays differ"
 
 
+@pytest.mark.skipif("embree" not in mbrt.kinds(), reason="mbrt was built without Embree")
+@pytest.mark.parametrize("mode", ["static", "static-robust"])
+def test_embree_static_modes_are_the_scene_at_the_frozen_time(mixed, mode):
+    """Embree's static BVH, default or robust flags, over the scene frozen
+    at frozen_time: brute's hits at that time, whatever time a ray carries
+    (up to 0.1% of the hits may differ, as above)."""
+    scene, brute, rays = mixed
+    at = rays.copy()
+    at[:, 8] = 0.25
+    a = brute.intersect(at)
+    b = mbrt.Accel(scene, "embree", embree_mode=mode, frozen_time=0.25).intersect(rays)
+    differ = (a.hit != b.hit) | (a.hit & (a.prim_id != b.prim_id) & ~np.isclose(a.t, b.t, rtol=2e-4))
+    assert a.hit.sum() > 2000 and differ.sum() <= 1e-3 * a.hit.sum(), f"{differ.sum()} rays differ"
+
+
 @pytest.mark.parametrize("kind", ["stbvh", "msbvh", "mbkd", "fuzzykd"])
 def test_kind_agrees_with_brute_on_suite_scene(kind):
     scene = mbrt.scenes.make("crowd", size=0.005)
