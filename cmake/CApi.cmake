@@ -104,6 +104,7 @@ if(MBRT_BUILD_TESTS)
                         threads stats memory_budget auto_options)
     add_test(NAME capi.${case} COMMAND mbrt_c_tests ${case})
   endforeach()
+  set_tests_properties(capi.agreement PROPERTIES COST 500)  # a long one: started early
 
   # Only the C API leaves libmbrt.so.
   add_test(NAME capi.exports_only_c_api

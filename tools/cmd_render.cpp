@@ -176,6 +176,7 @@ RenderResult renderWith(const LoadedScene& loaded, const AccelArgs& kindArgs, co
                         bool progress, tbb::task_arena& arena) {
   std::unique_ptr<Accel> accel;
   arena.execute([&] { accel = buildAccel(*loaded.scene, kindArgs, progress); });
+  gNothingToKeep.store(false);  // from here a stop keeps the tiles rendered
   const AccelStats built = accel->stats();
   std::printf("accel   %s, built in %.3f s\n", built.kind.c_str(), built.buildSeconds);
   if (isHeatMap(opt.integrator) && built.kind == "embree")
@@ -292,6 +293,8 @@ void run(RenderArgs& args) {
   const StopSignalGuard guard;
   for (const AccelArgs& kindArgs : kinds) {
     if (gStopRequested.load() && !results.empty()) break;  // interrupted: write what there is
+    // The first build has nothing to keep: a stop during it ends mbrt at once.
+    gNothingToKeep.store(results.empty() && mpiWorldSize() == 1);
     results.push_back(renderWith(loaded, kindArgs, opt, progress, *arena));
   }
   if (mpiRank() != 0) return;  // rank 0 writes the picture

@@ -1,5 +1,7 @@
 // SIGINT and SIGTERM during a render: the first stops the work after what is
 // in progress (the render's cancel flag), a second ends the process at once.
+// While nothing would be kept (a build before the first tile: builds cannot
+// be cancelled), the first one ends the process at once, writing nothing.
 #pragma once
 
 #include <unistd.h>
@@ -12,8 +14,18 @@ namespace mbrt::tools {
 // The signal that stopped the work (SIGINT, SIGTERM), 0 while none.
 inline std::atomic<int> gStopSignal{0};
 inline std::atomic<bool> gStopRequested{false};
+// Set while the work in progress would leave nothing to write when stopped.
+inline std::atomic<bool> gNothingToKeep{false};
 
 extern "C" inline void onStopSignal(int sig) {
+  if (gNothingToKeep.load()) {  // async-signal-safe: write(2) and _exit(2) only
+    static const char kInt[] = "\nmbrt: stopped by SIGINT before any tile was rendered: nothing written\n";
+    static const char kTerm[] = "\nmbrt: stopped by SIGTERM before any tile was rendered: nothing written\n";
+    const bool isInt = sig == SIGINT;
+    [[maybe_unused]] const ssize_t n =
+        ::write(STDERR_FILENO, isInt ? kInt : kTerm, (isInt ? sizeof kInt : sizeof kTerm) - 1);
+    ::_exit(128 + sig);
+  }
   gStopSignal.store(sig);
   gStopRequested.store(true);
   std::signal(sig, SIG_DFL);  // a second one ends the process at once
@@ -29,10 +41,12 @@ class StopSignalGuard {
   StopSignalGuard() {
     gStopSignal.store(0);
     gStopRequested.store(false);
+    gNothingToKeep.store(false);
     previousInt_ = std::signal(SIGINT, onStopSignal);
     previousTerm_ = std::signal(SIGTERM, onStopSignal);
   }
   ~StopSignalGuard() {
+    gNothingToKeep.store(false);
     std::signal(SIGINT, previousInt_ == SIG_ERR ? SIG_DFL : previousInt_);
     std::signal(SIGTERM, previousTerm_ == SIG_ERR ? SIG_DFL : previousTerm_);
   }

@@ -81,6 +81,15 @@ if [[ -n "$signal" ]]; then
     kill -s KILL "$pid" 2>/dev/null
     fail "no line matched '$signal_re' while the command ran: SIG$signal not sent"
   fi
+  # The timeout covers the whole run, the time after the signal included.
+  for (( ; i < timeout_s * 10; ++i)); do
+    if ! kill -0 "$pid" 2>/dev/null; then break; fi
+    sleep 0.1
+  done
+  if kill -0 "$pid" 2>/dev/null; then
+    kill -s KILL "$pid" 2>/dev/null
+    fail "still running ${timeout_s} s after it started (SIG$signal sent): killed"
+  fi
   wait "$pid"
   rc=$?
 else
