@@ -70,6 +70,7 @@ class NodeBlocks {
   size_t bytes() const { return chunks_.size() * sizeof(Chunk); }
   const void* data() const { return chunks_.data(); }
 
+  void reserve(size_t nodes) { chunks_.reserve(nodes * stride_); }
   uint32_t add() {
     const uint32_t index = uint32_t(size());
     chunks_.resize(chunks_.size() + stride_);
@@ -175,6 +176,11 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
       const ScopedCharge vertices(budget, clipper.bytes(), "the MSBVH build's vertices at the build time");
       const SbvhTree tree = buildSbvh(std::move(refs), s, clipper);
       if (!tree.empty()) {
+        size_t nodes = 0, emitted = 0;
+        countEmitted(tree, tree.root(), nodes, emitted);
+        nodes_.reserve(nodes);
+        prims_.reserve(emitted);
+        regions_.reserve(emitted);
         emit(tree, tree.root(), 1);
         computeLeafKeys();
         propagate();
@@ -291,12 +297,11 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
       for (int i = 0; i < 2; ++i) gatherRefs(tree, tree.child(bin, i), out);
   }
 
-  // Binary SBVH -> N-wide nodes in depth-first order: a node starts with the
-  // two children of a binary node and opens its largest inner child until it
-  // has N (STBVH §3.3's collapse); lanes still free then split its largest
-  // leaves (node filling, sbvh_builder.h).
-  uint32_t emit(const SbvhTree& tree, const SbvhNode& bin, uint32_t depth) {
-    depth_ = std::max(depth_, depth);
+  // The lanes of the wide node made from `bin`: the two children of a
+  // binary node, its largest inner child opened until there are N (STBVH
+  // §3.3's collapse), then lanes still free split its largest leaves (node
+  // filling, sbvh_builder.h).
+  static std::vector<const SbvhNode*> lanesOf(const SbvhTree& tree, const SbvhNode& bin) {
     std::vector<const SbvhNode*> lanes;
     if (bin.isLeaf() || bin.fill) {
       lanes.push_back(&bin);
@@ -305,6 +310,32 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
       openLargest(tree, lanes, [](const SbvhNode& c) { return !c.isLeaf() && !c.fill; });
     }
     openLargest(tree, lanes, [](const SbvhNode& c) { return !c.isLeaf() && c.fill; });
+    return lanes;
+  }
+
+  // How many wide nodes and references emit(bin) writes, so that their
+  // arrays are allocated once: grown node by node, the nodes' array (with
+  // its n_ + 1 keys per node, 474 MB on `crowd`) was copied at every
+  // doubling.
+  static void countEmitted(const SbvhTree& tree, const SbvhNode& bin, size_t& nodes, size_t& refs) {
+    ++nodes;
+    for (const SbvhNode* c : lanesOf(tree, bin)) {
+      if (c->isLeaf() || c->fill) refs += countRefs(tree, *c);
+      else countEmitted(tree, *c, nodes, refs);
+    }
+  }
+  static size_t countRefs(const SbvhTree& tree, const SbvhNode& bin) {
+    size_t n = bin.refs.size();
+    if (!bin.isLeaf())
+      for (int i = 0; i < 2; ++i) n += countRefs(tree, tree.child(bin, i));
+    return n;
+  }
+
+  // Binary SBVH -> N-wide nodes in depth-first order, each with the lanes
+  // of lanesOf.
+  uint32_t emit(const SbvhTree& tree, const SbvhNode& bin, uint32_t depth) {
+    depth_ = std::max(depth_, depth);
+    const std::vector<const SbvhNode*> lanes = lanesOf(tree, bin);
     const uint32_t index = nodes_.add();
     for (int l = 0; l < N; ++l) {
       nodes_.node(index).child[l] = kEmptyChild;
