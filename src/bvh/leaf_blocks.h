@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bvh/leaf_intersect.h"
+#include "core/huge_pages.h"
 #include "bvh/nodes/wide_bvh.h"
 #include "geometry/triangle_block.h"
 
@@ -73,6 +74,7 @@ struct TriangleLeafBlocks {
     if (!aligned || !any) return;
     const size_t count = bvh.prims.size() / kLeafBlockWidth;
     ctx.budget().charge(count * sizeof(TriangleLeafBlock), "the frozen tree's leaf blocks");
+    reserveOnHugePages(blocks, count);
     blocks.resize(count);
     for (TriangleLeafBlock& b : blocks) b.geomID[0] = kNone;
     forEachLeaf(bvh, stored, [&](uint32_t begin, uint32_t n, bool blockable) {

@@ -50,6 +50,8 @@ struct MotionLeafBlocks {
     if (!aligned || count == 0 || count >= kNone) return;
     const size_t slots = bvh.prims.size() / W;
     ctx.budget().charge(bytesFor(slots, count), "the motion tree's leaf blocks");
+    reserveOnHugePages(leaves, slots);
+    reserveOnHugePages(blocks, count);
     leaves.resize(slots);
     blocks.resize(count);
     uint32_t next = 0;

@@ -10,6 +10,7 @@
 #include "bvh/leaf_intersect.h"
 #include "bvh/sah_cost.h"
 #include "bvh/traverse.h"
+#include "core/huge_pages.h"
 #include "core/simd.h"
 #include "core/traced_structure.h"
 #include "scene/branching.h"
@@ -70,7 +71,7 @@ class NodeBlocks {
   size_t bytes() const { return chunks_.size() * sizeof(Chunk); }
   const void* data() const { return chunks_.data(); }
 
-  void reserve(size_t nodes) { chunks_.reserve(nodes * stride_); }
+  void reserve(size_t nodes) { reserveOnHugePages(chunks_, nodes * stride_); }
   uint32_t add() {
     const uint32_t index = uint32_t(size());
     chunks_.resize(chunks_.size() + stride_);
@@ -167,6 +168,8 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
       s.traversalCost = o.traversalCost;
       ScopedCharge scratch(budget, size_t(double(prims.size()) * (1.0 + s.maxGrowth) * 2.0 * sizeof(SplitRef)),
                            "the MSBVH build references");
+      // With the root's growth room (buildSbvh), so that it is not copied.
+      reserveOnHugePages(refs, size_t(double(prims.size()) * (1.0 + double(s.maxGrowth))) + 1);
       refs.resize(prims.size());
       tbb::parallel_for(size_t(0), prims.size(), [&](size_t i) {
         refs[i] = {bounder_.buildBox(prims[i]), Box3f(Vec3f(-kInf), Vec3f(kInf)), prims[i]};
@@ -179,8 +182,8 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
         size_t nodes = 0, emitted = 0;
         countEmitted(tree, tree.root(), nodes, emitted);
         nodes_.reserve(nodes);
-        prims_.reserve(emitted);
-        regions_.reserve(emitted);
+        reserveOnHugePages(prims_, emitted);
+        reserveOnHugePages(regions_, emitted);
         emit(tree, tree.root(), 1);
         computeLeafKeys();
         propagate();

@@ -19,6 +19,7 @@
 #include <tbb/concurrent_vector.h>
 
 #include "bvh/heuristics/spatial_split.h"
+#include "core/huge_pages.h"
 
 namespace mbrt::detail {
 
@@ -58,7 +59,7 @@ struct SbvhNode {
 };
 
 struct SbvhTree {
-  tbb::concurrent_vector<SbvhNode> nodes;  // the root first
+  tbb::concurrent_vector<SbvhNode, HugePageAllocator<SbvhNode>> nodes;  // the root first
   std::vector<SplitRef> refs;              // the leaves' references, with the subtrees' growth room
   // Subtrees whose spatial split added more references than their room (the
   // binned counts are estimates): their references live here.

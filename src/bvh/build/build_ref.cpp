@@ -3,10 +3,14 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "core/huge_pages.h"
+
 namespace mbrt::detail {
 
 std::vector<BuildRef> makeBuildRefs(std::span<const PrimRef> prims, const RefMaker& maker) {
-  std::vector<BuildRef> refs(prims.size());
+  std::vector<BuildRef> refs;
+  reserveOnHugePages(refs, prims.size());
+  refs.resize(prims.size());
   std::vector<uint8_t> keep(prims.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, prims.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/huge_pages.h"
 #include "mbrt/ray.h"
 
 namespace mbrt::detail {
@@ -103,9 +104,9 @@ void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, Bu
   budget.charge(tree.nodes.size() * sizeof(WideNode<N, Motion>) + tableSize * sizeof(PrimRef) +
                     tree.times.size() * sizeof(LaneTimes<N>),
                 "the BVH nodes");
-  out.nodes.reserve(tree.nodes.size());
-  out.times.reserve(tree.times.size());
-  out.prims.reserve(tableSize);
+  reserveOnHugePages(out.nodes, tree.nodes.size());
+  reserveOnHugePages(out.times, tree.times.size());
+  reserveOnHugePages(out.prims, tableSize);
   Layout<N, Motion>(tree, out, leafBlock).emit(tree.root, 1);
 }
 

@@ -10,6 +10,7 @@
 
 #include "bvh/build/builder.h"
 #include "bvh/nodes/wide_bvh.h"
+#include "core/huge_pages.h"
 
 namespace mbrt::detail {
 
@@ -20,9 +21,10 @@ struct UnorderedWideBvh {
   // a node indexes `times`. The segments (a few dozen per build) come from
   // the system allocator rather than TBB's: its recycling of one build's
   // freed memory into another's is invisible to ThreadSanitizer, which then
-  // reports the reuse as a race between the two builds.
+  // reports the reuse as a race between the two builds. Large segments are
+  // advised onto huge pages (core/huge_pages.h).
   template <class T>
-  using Vector = tbb::concurrent_vector<T, std::allocator<T>>;
+  using Vector = tbb::concurrent_vector<T, HugePageAllocator<T>>;
   Vector<WideNode<N, Motion>> nodes;
   Vector<LaneTimes<N>> times;
   Vector<PrimRef> prims;

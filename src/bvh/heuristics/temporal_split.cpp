@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "bvh/heuristics/binned_sah.h"
+#include "core/huge_pages.h"
 
 namespace mbrt::detail {
 namespace {
@@ -101,12 +102,14 @@ void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, 
     std::vector<BuildRef>& out = *outs[i];
     if (refs.size() < kParallelRefs) {  // appended: no constructed-then-overwritten references
       out.clear();
-      out.reserve(refs.size());
+      reserveOnHugePages(out, refs.size());
       for (const BuildRef& r : refs) {
         BuildRef made;
         if (remakeRef(r, halves[i], source, made)) out.push_back(made);
       }
     } else {
+      out.clear();
+      reserveOnHugePages(out, refs.size());
       out.resize(refs.size());
       size_t n = 0;
       std::vector<uint8_t> keep(refs.size(), 0);
