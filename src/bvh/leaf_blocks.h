@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "bvh/leaf_intersect.h"
-#include "core/huge_pages.h"
 #include "bvh/nodes/wide_bvh.h"
+#include "core/huge_pages.h"
 #include "geometry/triangle_block.h"
 
 namespace mbrt::detail {

@@ -60,7 +60,7 @@ struct SbvhNode {
 
 struct SbvhTree {
   tbb::concurrent_vector<SbvhNode, HugePageAllocator<SbvhNode>> nodes;  // the root first
-  std::vector<SplitRef> refs;              // the leaves' references, with the subtrees' growth room
+  std::vector<SplitRef> refs;  // the leaves' references, with the subtrees' growth room
   // Subtrees whose spatial split added more references than their room (the
   // binned counts are estimates): their references live here.
   tbb::concurrent_vector<std::vector<SplitRef>> overflow;
