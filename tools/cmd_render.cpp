@@ -302,7 +302,7 @@ void run(RenderArgs& args) {
   const bool anyTile = std::any_of(results.begin(), results.end(), [](const RenderResult& r) { return r.tilesDone > 0; });
   if (sig != 0 && !anyTile) {
     // Nothing rendered (stopped during the build): an old picture is worth more than a black one.
-    std::fprintf(stderr, "mbrt: stopped by %s before any tile was rendered: nothing written\n", signalName(sig));
+    std::fputs(nothingWrittenNote(sig) + 1, stderr);  // without the leading newline
     throw ExitStatus(128 + sig);
   }
   if (isHeatMap(opt.integrator)) rescaleHeat(results, opt);

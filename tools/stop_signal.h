@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstring>
 
 namespace mbrt::tools {
 
@@ -17,13 +18,17 @@ inline std::atomic<bool> gStopRequested{false};
 // Set while the work in progress would leave nothing to write when stopped.
 inline std::atomic<bool> gNothingToKeep{false};
 
+// What a stop with nothing to keep says (a static string: the handler
+// writes it). It starts with a newline, to end a progress line.
+inline const char* nothingWrittenNote(int sig) {
+  return sig == SIGINT ? "\nmbrt: stopped by SIGINT before any tile was rendered: nothing written\n"
+                       : "\nmbrt: stopped by SIGTERM before any tile was rendered: nothing written\n";
+}
+
 extern "C" inline void onStopSignal(int sig) {
   if (gNothingToKeep.load()) {  // async-signal-safe: write(2) and _exit(2) only
-    static const char kInt[] = "\nmbrt: stopped by SIGINT before any tile was rendered: nothing written\n";
-    static const char kTerm[] = "\nmbrt: stopped by SIGTERM before any tile was rendered: nothing written\n";
-    const bool isInt = sig == SIGINT;
-    [[maybe_unused]] const ssize_t n =
-        ::write(STDERR_FILENO, isInt ? kInt : kTerm, (isInt ? sizeof kInt : sizeof kTerm) - 1);
+    const char* note = nothingWrittenNote(sig);
+    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, note, std::strlen(note));
     ::_exit(128 + sig);
   }
   gStopSignal.store(sig);

@@ -74,8 +74,7 @@ struct TriangleLeafBlocks {
     if (!aligned || !any) return;
     const size_t count = bvh.prims.size() / kLeafBlockWidth;
     ctx.budget().charge(count * sizeof(TriangleLeafBlock), "the frozen tree's leaf blocks");
-    reserveOnHugePages(blocks, count);
-    blocks.resize(count);
+    resizeOnHugePages(blocks, count);
     for (TriangleLeafBlock& b : blocks) b.geomID[0] = kNone;
     forEachLeaf(bvh, stored, [&](uint32_t begin, uint32_t n, bool blockable) {
       if (!blockable) return;

@@ -50,10 +50,8 @@ struct MotionLeafBlocks {
     if (!aligned || count == 0 || count >= kNone) return;
     const size_t slots = bvh.prims.size() / W;
     ctx.budget().charge(bytesFor(slots, count), "the motion tree's leaf blocks");
-    reserveOnHugePages(leaves, slots);
-    reserveOnHugePages(blocks, count);
-    leaves.resize(slots);
-    blocks.resize(count);
+    resizeOnHugePages(leaves, slots);
+    resizeOnHugePages(blocks, count);
     uint32_t next = 0;
     forEachLeaf(ctx, bvh, [&](uint32_t begin, uint32_t n, const Geometry* g) {
       if (!g) return;

@@ -54,8 +54,7 @@ struct SegmentLeafBlocks {
     if (!aligned || !any) return;
     const size_t count = bvh.prims.size() / W;
     ctx.budget().charge(count * sizeof(SegmentLeafBlock), "the frozen tree's segment blocks");
-    reserveOnHugePages(blocks, count);
-    blocks.resize(count);
+    resizeOnHugePages(blocks, count);
     for (SegmentLeafBlock& b : blocks) b.geomID[0] = kNone;
     forEachLeaf(ctx, bvh, [&](uint32_t begin, uint32_t n, bool blockable) {
       if (!blockable) return;

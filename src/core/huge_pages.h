@@ -46,6 +46,13 @@ void reserveOnHugePages(std::vector<T, A>& v, size_t n) {
   adviseHugePages(v.data(), v.capacity() * sizeof(T));
 }
 
+// v.resize(n) into storage advised before it is written (v empty or small).
+template <class T, class A>
+void resizeOnHugePages(std::vector<T, A>& v, size_t n) {
+  reserveOnHugePages(v, n);
+  v.resize(n);
+}
+
 // std::allocator whose large blocks are advised as they are allocated: for
 // containers that allocate as they grow (tbb::concurrent_vector's segments).
 template <class T>

@@ -9,8 +9,7 @@ namespace mbrt::detail {
 
 std::vector<BuildRef> makeBuildRefs(std::span<const PrimRef> prims, const RefMaker& maker) {
   std::vector<BuildRef> refs;
-  reserveOnHugePages(refs, prims.size());
-  refs.resize(prims.size());
+  resizeOnHugePages(refs, prims.size());
   std::vector<uint8_t> keep(prims.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, prims.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i)

@@ -109,8 +109,7 @@ void splitTemporal(std::span<const BuildRef> refs, TimeRange range, float time, 
       }
     } else {
       out.clear();
-      reserveOnHugePages(out, refs.size());
-      out.resize(refs.size());
+      resizeOnHugePages(out, refs.size());
       size_t n = 0;
       std::vector<uint8_t> keep(refs.size(), 0);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, refs.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
