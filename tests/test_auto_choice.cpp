@@ -73,18 +73,22 @@ TEST(AutoChoice, ManyRigidObjectsInALargeSceneStayInstances) {
 }
 
 // A small scene of many rigid objects (crowd at 0.02: 80-triangle objects)
-// gets the flat trial whatever its number of objects; there 101 frozen
-// instances cost less than one tree over the scene (the flat `stbvh` takes
-// 1.25x the decomposition's thread time per ray, docs/performance.md), so
-// the decomposition is kept, and it agrees with brute.
+// gets the flat trial whatever its number of objects: the decomposition
+// and the whole scene as one object are both priced, and the choice agrees
+// with brute. There the two are within the model's error (101 frozen
+// instances, or one `stbvh` whose leaves are gathered into blocks at 1.06x
+// their thread time per ray, docs/performance.md), so either may be kept.
 TEST(AutoChoice, SmallScenesOfManyObjectsGetTheFlatTrial) {
   const ProceduralScene ps = makeProceduralScene("crowd", 0.02, 3);
   ASSERT_LE(ps.scene->numPrimitives(), 65536u);
   ASSERT_GT(ps.scene->numGeometries(), 4u);
   auto tested = build(*ps.scene, AccelKind::Auto);
   const AccelStats s = tested->stats();
-  EXPECT_NE(s.objects.find("kept the decomposition (cost per sampled ray / memory: decomposed"), std::string::npos)
-      << s.objects;
+  const bool kept = s.objects.find("kept the decomposition (cost per sampled ray / memory: decomposed") !=
+                    std::string::npos;
+  const bool flat = s.objects.find("whole scene as one object, cheaper than its decomposition (cost per sampled "
+                                   "ray / memory: decomposed") != std::string::npos;
+  EXPECT_TRUE(kept || flat) << "no flat trial: " << s.objects;
   expectAgreesWithBrute(ps, *tested, "crowd 0.02");
 }
 

@@ -26,8 +26,6 @@
 
 namespace mbrt::detail {
 
-inline constexpr int kLeafBlockWidth = 4;
-
 // The leaf block a tree's SAH charges (BuildSettings::leafBlock): four when
 // at least 3/4 of the primitives can be tested in blocks (triangles here,
 // or a static tree's segments, segment_leaf_blocks.h), else one (what is
@@ -35,6 +33,20 @@ inline constexpr int kLeafBlockWidth = 4;
 // in the quick bench: 1.58 -> 11.4 primitive tests per ray).
 inline int leafBlockWidth(size_t blockable, size_t primitives) {
   return 4 * blockable >= 3 * primitives ? kLeafBlockWidth : 1;
+}
+
+// The leaf block of a motion tree over the scene (`bvh-interp`, `stbvh`,
+// `bvh-segments`): four when at least 3/4 of its primitives are triangles
+// without a filter, which its leaves test four at a time (copied into
+// motion blocks, motion_leaf_blocks.h, or gathered, testGatheredRun).
+inline int triangleLeafBlockWidth(const SceneContext& ctx) {
+  size_t triangles = 0, all = 0;
+  for (uint32_t id = 0; id < ctx.scene().numGeometries(); ++id) {
+    const Geometry& g = ctx.geometry(id);
+    all += g.numPrimitives();
+    if (g.type() == GeometryType::Triangles && !g.hasFilter()) triangles += g.numPrimitives();
+  }
+  return leafBlockWidth(triangles, all);
 }
 
 // Four triangles of one leaf: 192 bytes, three cache lines.
@@ -119,51 +131,6 @@ struct TriangleLeafBlocks {
 };
 
 namespace leaf_block {
-
-// The closest hit that test(onHit) reports, as intersectLeaf keeps it:
-// each hit replaces `hit` and shrinks ray.tfar; true when there was one.
-template <class Test>
-inline bool closestOf(RayQuery& ray, Hit& hit, Test&& test) {
-  bool found = false;
-  test([&](const Hit& h) {
-    hit = h;
-    ray.tfar = h.t;
-    found = true;
-    return false;
-  });
-  return found;
-}
-
-// The lanes in `valid` of one block: onHit(hit) for each candidate hit in
-// lane order, as testing the lanes' triangles one by one would call it;
-// stops when onHit returns true. ref(lane) is the lane's reference; r is
-// BlockRay(ray), made once per ray.
-template <class Ref, class OnHit>
-[[gnu::always_inline]] inline bool testBlock(const TriangleBlock<kLeafBlockWidth>& tri, uint32_t valid,
-                                             const Ref& ref, RayQuery& ray, const BlockRay<kLeafBlockWidth>& r,
-                                             OnHit&& onHit) {
-  TriangleBlockResult<kLeafBlockWidth> res;
-  intersectTriangleBlock(ray, r, tri, valid, res);
-  for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
-    const int lane = __builtin_ctz(todo);
-    if (res.scalar >> lane & 1u) {
-      if (leaf_run::testOneTriangle(ref(lane), tri.vertex(0, lane), tri.vertex(1, lane), tri.vertex(2, lane), ray,
-                                    onHit))
-        return true;
-      continue;
-    }
-    TriangleHit th;
-    if (!res.accept(lane, ray, th)) continue;
-    if (onHit(leaf_run::triangleHit(ref(lane), th, tri.vertex(0, lane), tri.vertex(1, lane), tri.vertex(2, lane))))
-      return true;
-  }
-  return false;
-}
-
-// Lanes [0, n) of a block, n = the leaf's references left (at most W used).
-inline uint32_t presentLanes(uint32_t left) {
-  return left < uint32_t(kLeafBlockWidth) ? (1u << left) - 1u : (1u << kLeafBlockWidth) - 1u;
-}
 
 // The blocks of a leaf of `count` triangles: onHit(hit) for each candidate
 // hit in reference order, as testRun would call it; stops when onHit

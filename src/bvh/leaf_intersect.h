@@ -9,10 +9,14 @@
 // A static tree (`frozen`) reads its triangles from FixedTimeTriangles,
 // the vertices at its one time laid out per primitive, instead of
 // interpolating them through the indices (docs/performance.md).
+// Where the traversal gives a BlockRay, a run of two or more triangles is
+// gathered four at a time into a block at the ray's time and tested in
+// SIMD lanes (leaf_block::testGatheredRun), with the same hits.
 #pragma once
 
 #include <vector>
 
+#include "geometry/triangle_block.h"
 #include "scene/primitive_intersect.h"
 
 namespace mbrt::detail {
@@ -131,6 +135,110 @@ inline bool plainRun(const Geometry& g) { return g.type() != GeometryType::Insta
 
 }  // namespace leaf_run
 
+// Leaves are tested four triangles at a time (triangle_block.h): the
+// blocks a structure keeps (leaf_blocks.h, motion_leaf_blocks.h) and the
+// runs of the others, gathered through their indices (below).
+inline constexpr int kLeafBlockWidth = 4;
+
+namespace leaf_block {
+
+// The closest hit that test(onHit) reports, as intersectLeaf keeps it:
+// each hit replaces `hit` and shrinks ray.tfar; true when there was one.
+template <class Test>
+inline bool closestOf(RayQuery& ray, Hit& hit, Test&& test) {
+  bool found = false;
+  test([&](const Hit& h) {
+    hit = h;
+    ray.tfar = h.t;
+    found = true;
+    return false;
+  });
+  return found;
+}
+
+// The lanes in `valid` of one block: onHit(hit) for each candidate hit in
+// lane order, as testing the lanes' triangles one by one would call it;
+// stops when onHit returns true. ref(lane) is the lane's reference; r is
+// BlockRay(ray), made once per ray.
+template <class Ref, class OnHit>
+[[gnu::always_inline]] inline bool testBlock(const TriangleBlock<kLeafBlockWidth>& tri, uint32_t valid,
+                                             const Ref& ref, RayQuery& ray, const BlockRay<kLeafBlockWidth>& r,
+                                             OnHit&& onHit) {
+  TriangleBlockResult<kLeafBlockWidth> res;
+  intersectTriangleBlock(ray, r, tri, valid, res);
+  for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {
+    const int lane = __builtin_ctz(todo);
+    if (res.scalar >> lane & 1u) {
+      if (leaf_run::testOneTriangle(ref(lane), tri.vertex(0, lane), tri.vertex(1, lane), tri.vertex(2, lane), ray,
+                                    onHit))
+        return true;
+      continue;
+    }
+    TriangleHit th;
+    if (!res.accept(lane, ray, th)) continue;
+    if (onHit(leaf_run::triangleHit(ref(lane), th, tri.vertex(0, lane), tri.vertex(1, lane), tri.vertex(2, lane))))
+      return true;
+  }
+  return false;
+}
+
+// Lanes [0, n) of a block, n = the leaf's references left (at most W used).
+inline uint32_t presentLanes(uint32_t left) {
+  return left < uint32_t(kLeafBlockWidth) ? (1u << left) - 1u : (1u << kLeafBlockWidth) - 1u;
+}
+
+
+// The smallest run that is gathered into blocks; one triangle alone is
+// cheaper tested by itself.
+inline constexpr uint32_t kGatheredRunMin = 2;
+
+// A run's triangles gathered into blocks of four at the ray's time through
+// their indices, as Embree's Triangle4i and Triangle4iMB leaves do: each
+// vertex is one 12-byte load per step, the two steps interpolated as
+// VerticesAt does (a * (1 - f) + b * f, the same operations lane by lane),
+// and four vertices turned into the block's structure of arrays in
+// registers. onHit(hit) for each candidate hit in reference order, as
+// testRun would call it; stops when onHit returns true. The leaves keep no
+// copy: this costs no memory.
+template <class OnHit>
+inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
+                            const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
+  constexpr int W = kLeafBlockWidth;
+  using P = Pack<W>;
+  const leaf_run::VerticesAt at(g, ray.time);
+  const std::span<const Triangle> tris = g.triangles();
+  const char* const d0 = static_cast<const char*>(at.v0->data);
+  const char* const d1 = at.v1 ? static_cast<const char*>(at.v1->data) : nullptr;
+  const size_t s0 = at.v0->stride, s1 = at.v1 ? at.v1->stride : 0;
+  const P w0 = P::set1(1.0f - at.f), w1 = P::set1(at.f);
+  TriangleBlock<W> block;
+  for (uint32_t first = begin; first < end; first += W) {
+    P v[3][W];
+    for (int lane = 0; lane < W; ++lane) {
+      // Lanes past the run's end repeat its last triangle (not tested).
+      const Triangle& t = tris[prims[std::min(first + uint32_t(lane), end - 1)].primID];
+      const uint32_t index[3] = {t.v0, t.v1, t.v2};
+      for (int k = 0; k < 3; ++k) {
+        P p = P::load3(reinterpret_cast<const float*>(d0 + index[k] * s0));
+        if (d1) p = p * w0 + P::load3(reinterpret_cast<const float*>(d1 + index[k] * s1)) * w1;
+        v[k][lane] = p;
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      P x, y, z;
+      P::transposeXyz(v[k][0], v[k][1], v[k][2], v[k][3], x, y, z);
+      x.store(block.p[k][0]);
+      y.store(block.p[k][1]);
+      z.store(block.p[k][2]);
+    }
+    const auto ref = [prims, first](int lane) { return prims[first + uint32_t(lane)]; };
+    if (testBlock(block, presentLanes(end - first), ref, ray, r, onHit)) return true;
+  }
+  return false;
+}
+
+}  // namespace leaf_block
+
 // The triangles of a scene at one time, three vertices each, in primitive
 // order per geometry: `frozen`'s leaves read a triangle in one place
 // instead of through its indices and the vertex buffers (as Embree's
@@ -177,23 +285,37 @@ struct FixedTimeTriangles {
   }
 };
 
+// Whether a plain run of `n` references of g is tested gathered into
+// blocks (leaf_block::testGatheredRun) rather than one by one: triangles
+// not stored at a fixed time, when the caller gave the block ray.
+inline bool gathered(const Geometry& g, const Vec3f* stored, const BlockRay<kLeafBlockWidth>* blockRay, uint32_t n) {
+  return blockRay && !stored && n >= leaf_block::kGatheredRunMin && g.type() == GeometryType::Triangles;
+}
+
 // Closest hit among a leaf's references (as intersectPrimitive on each).
 // Stored: the leaf may read triangles from `stored` (static trees only).
 template <bool Stored = false>
 inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray, Hit& hit,
-                          TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr) {
+                          TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
+                          const BlockRay<kLeafBlockWidth>* blockRay = nullptr) {
   bool found = false;
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
     const Geometry& g = ctx.geometry(prims[begin].geomID);
     if ((g.mask() & ray.mask) != 0 && g.timeRange().contains(ray.time)) {
       if (leaf_run::plainRun(g)) {
-        leaf_run::testRun(g, prims, begin, end, ray, [&](const Hit& h) {
+        const auto onHit = [&](const Hit& h) {
           hit = h;
           ray.tfar = h.t;
           found = true;
           return false;
-        }, Stored && stored ? stored->of(prims[begin].geomID) : nullptr);
+        };
+        const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
+        if (gathered(g, v, blockRay, end - begin)) {
+          if (counters) counters->blockPrimitiveTests += end - begin;
+          leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit);
+        } else
+          leaf_run::testRun(g, prims, begin, end, ray, onHit, v);
       } else {
         for (uint32_t i = begin; i < end; ++i) found |= intersectPrimitive(ctx, prims[i], ray, hit, counters);
       }
@@ -206,14 +328,18 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
 // Any hit among a leaf's references (as occludedPrimitive on each).
 template <bool Stored = false>
 inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray,
-                         const FixedTimeTriangles* stored = nullptr) {
+                         const FixedTimeTriangles* stored = nullptr,
+                         const BlockRay<kLeafBlockWidth>* blockRay = nullptr) {
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
     const Geometry& g = ctx.geometry(prims[begin].geomID);
     if ((g.mask() & ray.mask) != 0 && g.timeRange().contains(ray.time)) {
       if (leaf_run::plainRun(g)) {
         const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
-        if (leaf_run::testRun(g, prims, begin, end, ray, [](const Hit&) { return true; }, v)) return true;
+        const auto onHit = [](const Hit&) { return true; };
+        if (gathered(g, v, blockRay, end - begin) ? leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit)
+                                                  : leaf_run::testRun(g, prims, begin, end, ray, onHit, v))
+          return true;
       } else {
         for (uint32_t i = begin; i < end; ++i)
           if (occludedPrimitive(ctx, prims[i], ray)) return true;

@@ -270,8 +270,8 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
     PrimRef one;
     const PrimRef* prims = item.references(bvh.prims.data(), one);
     const uint32_t count = item.leafSize();
-    if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored);
-    else return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored);
+    if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored, &blockRay);
+    else return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored, &blockRay);
   };
   return wideTraverse<AnyHit, Count, N>(
       bvh.stackSize, nodeRay, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },

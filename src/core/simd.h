@@ -15,7 +15,8 @@
 // - fmadd fuses where the target has FMA (isa.h), as madd does; sqrt is
 //   the correctly rounded root of every lane, as std::sqrt.
 // - load and store need 4 * W-byte alignment (traversal data is aligned);
-//   loadu does not. load3 reads x, y, z of a 4-lane pack and no further.
+//   loadu does not. load3 reads x, y, z of a 4-lane pack and no further, at
+//   any alignment (a user's vertex buffer).
 #pragma once
 
 #include <bit>
@@ -55,7 +56,11 @@ struct Pack {
     for (float& l : r.v) l = x;
     return r;
   }
-  static Pack load3(const float* p) requires(W == 4) { return {{p[0], p[1], p[2], 0.0f}}; }
+  static Pack load3(const float* p) requires(W == 4) {
+    Pack r{{0.0f, 0.0f, 0.0f, 0.0f}};
+    std::memcpy(r.v, p, 3 * sizeof(float));  // p need not be aligned
+    return r;
+  }
   static Pack of(float x, float y, float z, float w) requires(W == 4) { return {{x, y, z, w}}; }
   void store(float* p) const {
     for (int i = 0; i < W; ++i) p[i] = v[i];
@@ -70,6 +75,17 @@ struct Pack {
     const Pack* p[4] = {&a, &b, &c, &d};
     for (int k = 0; k < 4; ++k)
       for (int i = 0; i < 3; ++i) out[3 * k + i] = p[k]->v[i];
+  }
+
+  // Lanes x, y, z of a, b, c and d as three packs: x = (a.x, b.x, c.x, d.x)
+  // and likewise y and z (four points into structure of arrays).
+  static void transposeXyz(Pack a, Pack b, Pack c, Pack d, Pack& x, Pack& y, Pack& z) requires(W == 4) {
+    const Pack* p[4] = {&a, &b, &c, &d};
+    for (int k = 0; k < 4; ++k) {
+      x.v[k] = p[k]->v[0];
+      y.v[k] = p[k]->v[1];
+      z.v[k] = p[k]->v[2];
+    }
   }
 
   friend Pack fmadd(Pack a, Pack b, Pack c) { return map(a, b, c, [](float x, float y, float z) { return madd(x, y, z); }); }
@@ -143,9 +159,11 @@ struct Pack<4> {
   }
   static Pack set1(float x) { return {_mm_set1_ps(x)}; }
   static Pack load3(const float* p) {
-    double xy;  // x and y as one 8-byte load (p need not be 8-byte aligned)
+    double xy;  // x and y as one 8-byte load, z as one 4-byte load (p need not be aligned)
+    float z;
     std::memcpy(&xy, p, sizeof xy);
-    return {_mm_movelh_ps(_mm_castpd_ps(_mm_set_sd(xy)), _mm_load_ss(p + 2))};
+    std::memcpy(&z, p + 2, sizeof z);
+    return {_mm_movelh_ps(_mm_castpd_ps(_mm_set_sd(xy)), _mm_set_ss(z))};
   }
   static Pack of(float x, float y, float z, float w) { return {_mm_setr_ps(x, y, z, w)}; }
   void store(float* p) const { _mm_store_ps(p, v); }
@@ -162,6 +180,15 @@ struct Pack<4> {
     _mm_storeu_ps(out, _mm_shuffle_ps(a.v, azbx, _MM_SHUFFLE(2, 0, 1, 0)));      // a.xyz b.x
     _mm_storeu_ps(out + 4, _mm_shuffle_ps(b.v, c.v, _MM_SHUFFLE(1, 0, 2, 1)));   // b.yz c.xy
     _mm_storeu_ps(out + 8, _mm_shuffle_ps(czdx, d.v, _MM_SHUFFLE(2, 1, 2, 0)));  // c.z d.xyz
+  }
+
+  // Four unpacks and three moves, as _MM_TRANSPOSE4_PS less the w row.
+  static void transposeXyz(Pack a, Pack b, Pack c, Pack d, Pack& x, Pack& y, Pack& z) {
+    const __m128 ab01 = _mm_unpacklo_ps(a.v, b.v), cd01 = _mm_unpacklo_ps(c.v, d.v);  // a.x b.x a.y b.y, ...
+    const __m128 ab23 = _mm_unpackhi_ps(a.v, b.v), cd23 = _mm_unpackhi_ps(c.v, d.v);  // a.z b.z a.w b.w, ...
+    x.v = _mm_movelh_ps(ab01, cd01);
+    y.v = _mm_movehl_ps(cd01, ab01);
+    z.v = _mm_movelh_ps(ab23, cd23);
   }
 
   friend Pack fmadd(Pack a, Pack b, Pack c) {

@@ -24,7 +24,7 @@ Decision SplitChooser::choose(std::span<BuildRef> refs, const RefSetInfo& info, 
   if (s_.temporal && depth < s_.maxBinnedDepth && !(split.cost < kTemporalTry * leafCost) &&
       temporalSplitTime(refs, range, *s_.temporal, time)) {
     temporalHalves(refs, range, time, tried, d);
-    temporal = temporalSplitCost(d.halves.refs[0], d.halves.refs[1], range, time);
+    temporal = temporalSplitCost(d.halves.refs[0], d.halves.refs[1], range, time, s_.leafBlock);
     if (kTemporalPenalty * temporal.cost < best) best = temporal.cost;
     else temporal = TemporalSplit();
   }

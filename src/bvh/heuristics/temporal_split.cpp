@@ -71,7 +71,7 @@ bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const Te
 }
 
 TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const BuildRef> right, TimeRange range,
-                                float time) {
+                                float time, int leafBlock) {
   const TimeRange halves[2] = {{range.lo, time}, {time, range.hi}};
   const std::span<const BuildRef> refs[2] = {left, right};
   TemporalSplit split;
@@ -81,7 +81,7 @@ TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const 
     const RefSetInfo& info = split.sides[i] = summarize(refs[i]);
     if (info.active == 0) continue;
     const float p = mbsahArea(info.bounds) * (halves[i].size() / range.size());
-    cost += p * float(info.active);
+    cost += p * leafBlocks(info.active, refs[i].size(), leafBlock);
   }
   split.cost = cost;
   return split;

@@ -16,21 +16,8 @@ class BvhInterp final : public WideBvhStructure<N, true> {
   explicit BvhInterp(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, nullptr, true, leafBlockFor(ctx));
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, nullptr, true, triangleLeafBlockWidth(ctx));
     Base::motionBlocks_ = MotionLeafBlocks(ctx, bvh_);
-  }
-
-  // Leaves charged per block of four (binned_sah.h, leafBlocks) and laid
-  // out as motion blocks (motion_leaf_blocks.h) when at least 3/4 of the
-  // primitives are triangles without a filter; else per reference.
-  static int leafBlockFor(const SceneContext& ctx) {
-    size_t triangles = 0, all = 0;
-    for (uint32_t id = 0; id < ctx.scene().numGeometries(); ++id) {
-      const Geometry& g = ctx.geometry(id);
-      all += g.numPrimitives();
-      if (g.type() == GeometryType::Triangles && !g.hasFilter()) triangles += g.numPrimitives();
-    }
-    return leafBlockWidth(triangles, all);
   }
 
   void fillStats(AccelStats& s) const override {

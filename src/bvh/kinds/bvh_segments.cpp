@@ -54,8 +54,11 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
     trees_.resize(n);
     // Independent trees: built side by side (each is deterministic), each
     // isolated so that one running out of budget cannot cut another short.
+    const int leafBlock = triangleLeafBlockWidth(ctx);
     tbb::parallel_for(0u, n, [&](uint32_t i) {
-      runIsolatedFromCancellation([&] { buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i]); });
+      runIsolatedFromCancellation([&] {
+        buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i], nullptr, true, leafBlock);
+      });
     });
   }
 

@@ -16,7 +16,7 @@ class Stbvh final : public WideBvhStructure<N, true> {
   explicit Stbvh(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     const SceneTemporalSource timing(ctx);
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing);
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing, true, triangleLeafBlockWidth(ctx));
   }
 
   void fillStats(AccelStats& s) const override {
