@@ -16,6 +16,7 @@
 
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "geometry/triangle_block.h"
 #include "scene/primitive_intersect.h"
 
@@ -198,11 +199,12 @@ inline constexpr uint32_t kGatheredRunMin = 2;
 // VerticesAt does (a * (1 - f) + b * f, the same operations lane by lane),
 // and four vertices turned into the block's structure of arrays in
 // registers. onHit(hit) for each candidate hit in reference order, as
-// testRun would call it; stops when onHit returns true. The leaves keep no
-// copy: this costs no memory.
+// testRun would call it; stops when onHit returns true. `indices`, when
+// given, holds the references' triangles (ReferenceTriangles, parallel to
+// `prims`); else each is read through its primitive id.
 template <class OnHit>
 inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
-                            const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
+                            const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit, const Triangle* indices = nullptr) {
   constexpr int W = kLeafBlockWidth;
   using P = Pack<W>;
   const leaf_run::VerticesAt at(g, ray.time);
@@ -216,7 +218,8 @@ inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t be
     P v[3][W];
     for (int lane = 0; lane < W; ++lane) {
       // Lanes past the run's end repeat its last triangle (not tested).
-      const Triangle& t = tris[prims[std::min(first + uint32_t(lane), end - 1)].primID];
+      const uint32_t i = std::min(first + uint32_t(lane), end - 1);
+      const Triangle& t = indices ? indices[i] : tris[prims[i].primID];
       const uint32_t index[3] = {t.v0, t.v1, t.v2};
       for (int k = 0; k < 3; ++k) {
         P p = P::load3(reinterpret_cast<const float*>(d0 + index[k] * s0));
@@ -285,6 +288,44 @@ struct FixedTimeTriangles {
   }
 };
 
+// The vertex indices of each reference's triangle, in the order of a
+// tree's reference table (zeros for other primitives): a gathered run reads
+// its triangles next to its references instead of through each one's
+// primitive id, one dependent load less per block (the leaf keeps its
+// triangles' indices, as Embree's Triangle4i leaves do). 12 bytes a
+// reference; kept by the trees whose leaves are charged per block
+// (`stbvh`, `bvh-segments`) where it pays (docs/performance.md, "Leaves
+// gathered into blocks through their indices").
+struct ReferenceTriangles {
+  // Where it pays: the scene's triangles' indices take more than a core's
+  // second-level cache (1 MB here, as RayCostWeights::cacheBytes), so that
+  // reading a triangle through its primitive id waits on memory. On smaller
+  // scenes those indices stay cached and the table only adds bytes to read.
+  static constexpr size_t kPaysFromBytes = size_t(1) << 20;
+  static bool pays(const SceneContext& ctx) {
+    size_t bytes = 0;
+    for (uint32_t id = 0; id < ctx.scene().numGeometries(); ++id)
+      if (ctx.geometry(id).type() == GeometryType::Triangles) bytes += ctx.geometry(id).triangles().size_bytes();
+    return bytes > kPaysFromBytes;
+  }
+
+  std::vector<Triangle> tris;
+
+  ReferenceTriangles() = default;
+  ReferenceTriangles(const SceneContext& ctx, std::span<const PrimRef> prims) {
+    ctx.budget().charge(prims.size() * sizeof(Triangle), "the tree's reference triangles");
+    resizeOnHugePages(tris, prims.size());
+    for (size_t i = 0; i < prims.size(); ++i) {
+      const Geometry& g = ctx.geometry(prims[i].geomID);
+      if (g.type() == GeometryType::Triangles) tris[i] = g.triangles()[prims[i].primID];
+    }
+  }
+  bool empty() const { return tris.empty(); }
+  // The triangles of the references from table entry `begin` on.
+  const Triangle* from(uint32_t begin) const { return tris.data() + begin; }
+  size_t bytes() const { return tris.size() * sizeof(Triangle); }
+};
+
 // Whether a plain run of `n` references of g is tested gathered into
 // blocks (leaf_block::testGatheredRun) rather than one by one: triangles
 // not stored at a fixed time, when the caller gave the block ray.
@@ -294,10 +335,12 @@ inline bool gathered(const Geometry& g, const Vec3f* stored, const BlockRay<kLea
 
 // Closest hit among a leaf's references (as intersectPrimitive on each).
 // Stored: the leaf may read triangles from `stored` (static trees only).
+// With `blockRay`, runs are gathered into blocks (`gathered`), reading the
+// references' triangles from `indices` when given (ReferenceTriangles).
 template <bool Stored = false>
 inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray, Hit& hit,
                           TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
-                          const BlockRay<kLeafBlockWidth>* blockRay = nullptr) {
+                          const BlockRay<kLeafBlockWidth>* blockRay = nullptr, const Triangle* indices = nullptr) {
   bool found = false;
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
@@ -313,7 +356,7 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
         const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
         if (gathered(g, v, blockRay, end - begin)) {
           if (counters) counters->blockPrimitiveTests += end - begin;
-          leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit);
+          leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit, indices);
         } else
           leaf_run::testRun(g, prims, begin, end, ray, onHit, v);
       } else {
@@ -329,7 +372,7 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
 template <bool Stored = false>
 inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray,
                          const FixedTimeTriangles* stored = nullptr,
-                         const BlockRay<kLeafBlockWidth>* blockRay = nullptr) {
+                         const BlockRay<kLeafBlockWidth>* blockRay = nullptr, const Triangle* indices = nullptr) {
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
     const Geometry& g = ctx.geometry(prims[begin].geomID);
@@ -337,7 +380,7 @@ inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t
       if (leaf_run::plainRun(g)) {
         const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
         const auto onHit = [](const Hit&) { return true; };
-        if (gathered(g, v, blockRay, end - begin) ? leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit)
+        if (gathered(g, v, blockRay, end - begin) ? leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit, indices)
                                                   : leaf_run::testRun(g, prims, begin, end, ray, onHit, v))
           return true;
       } else {

@@ -223,7 +223,8 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 // ray.time, and `stored` triangles when given (valid at ray.time), and a
 // static tree's leaf `blocks` (leaf_blocks.h) or `segmentBlocks`
 // (segment_leaf_blocks.h), or a motion tree's `motionBlocks`
-// (motion_leaf_blocks.h), when given. Count adds nodes
+// (motion_leaf_blocks.h), when given; other leaves gather their runs into
+// blocks (leaf_intersect.h), through `refTriangles` when given. Count adds nodes
 // visited, box tests and primitive tests.
 //
 // The nodes may be tested with another ray than the leaves, of the same
@@ -234,7 +235,7 @@ template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& nodeRay, RayQuery& leafRay,
               float boxTime, Hit* hit, TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
               const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr,
-              const SegmentLeafBlocks* segmentBlocks = nullptr) {
+              const SegmentLeafBlocks* segmentBlocks = nullptr, const ReferenceTriangles* refTriangles = nullptr) {
   RayQuery& ray = leafRay;
   const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
   const bool useSegmentBlocks = !Motion && segmentBlocks && ray.time == segmentBlocks->time;
@@ -270,8 +271,12 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
     PrimRef one;
     const PrimRef* prims = item.references(bvh.prims.data(), one);
     const uint32_t count = item.leafSize();
-    if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored, &blockRay);
-    else return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored, &blockRay);
+    const Triangle* indices =
+        refTriangles && !(item.count & TraversalItem::kInline) ? refTriangles->from(item.child) : nullptr;
+    if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored, &blockRay, indices);
+    else
+      return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored, &blockRay,
+                                    indices);
   };
   return wideTraverse<AnyHit, Count, N>(
       bvh.stackSize, nodeRay, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
@@ -290,9 +295,9 @@ template <bool AnyHit, bool Count, int N, bool Motion>
 bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
               TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
               const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr,
-              const SegmentLeafBlocks* segmentBlocks = nullptr) {
+              const SegmentLeafBlocks* segmentBlocks = nullptr, const ReferenceTriangles* refTriangles = nullptr) {
   return traverse<AnyHit, Count>(bvh, ctx, ray, ray, boxTime, hit, counters, stored, blocks, motionBlocks,
-                                 segmentBlocks);
+                                 segmentBlocks, refTriangles);
 }
 
 }  // namespace mbrt::detail

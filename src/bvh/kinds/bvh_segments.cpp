@@ -52,12 +52,15 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
     const std::vector<PrimRef> prims = ctx.primitives();
     const uint32_t n = std::max(1u, ctx.scene().maxSegments());
     trees_.resize(n);
+    refTriangles_.resize(n);
     // Independent trees: built side by side (each is deterministic), each
     // isolated so that one running out of budget cannot cut another short.
     const int leafBlock = triangleLeafBlockWidth(ctx);
+    const bool indices = leafBlock > 1 && ReferenceTriangles::pays(ctx);
     tbb::parallel_for(0u, n, [&](uint32_t i) {
       runIsolatedFromCancellation([&] {
         buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i], nullptr, true, leafBlock);
+        if (indices) refTriangles_[i] = ReferenceTriangles(ctx, trees_[i].prims);
       });
     });
   }
@@ -66,7 +69,9 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
   bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     float local;
     const uint32_t i = segmentOf(ray.time, uint32_t(trees_.size()), local);
-    return traverse<AnyHit, Count>(trees_[i], ctx_, ray, local, hit, counters);
+    const ReferenceTriangles* indices = refTriangles_[i].empty() ? nullptr : &refTriangles_[i];
+    return traverse<AnyHit, Count>(trees_[i], ctx_, ray, local, hit, counters, nullptr, nullptr, nullptr, nullptr,
+                                   indices);
   }
 
   // All trees summed, each covering T = 1/N.
@@ -76,6 +81,7 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
     for (uint32_t i = 0; i < n; ++i) {
       const TimeRange r = segmentRange(i, n);
       addTreeCost(trees_[i], 1.0 / n, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, r); }, sums);
+      sums.bytes += refTriangles_[i].bytes();
     }
     sums.fill(s, sceneSahArea(ctx_));
   }
@@ -101,6 +107,7 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
  private:
   const SceneContext& ctx_;
   std::vector<WideBvh<N, true>> trees_;
+  std::vector<ReferenceTriangles> refTriangles_;  // per tree, when its leaves are charged per block
 };
 
 }  // namespace

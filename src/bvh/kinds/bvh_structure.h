@@ -62,7 +62,8 @@ class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, pu
     return traverse<AnyHit, Count>(bvh_, ctx_, ray, boxTime(ray), hit, counters,
                                    stored_.first.empty() ? nullptr : &stored_, blocks_.empty() ? nullptr : &blocks_,
                                    motionBlocks_.empty() ? nullptr : &motionBlocks_,
-                                   segmentBlocks_.empty() ? nullptr : &segmentBlocks_);
+                                   segmentBlocks_.empty() ? nullptr : &segmentBlocks_,
+                                   refTriangles_.empty() ? nullptr : &refTriangles_);
   }
   std::vector<uint8_t> bytes() const override {
     std::vector<uint8_t> out;
@@ -80,6 +81,7 @@ class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, pu
   TriangleLeafBlocks blocks_;  // static trees: leaves as blocks of 4 at the frozen time (leaf_blocks.h)
   MotionLeafBlocks motionBlocks_;  // motion trees: leaves as blocks of 4 at every step (motion_leaf_blocks.h)
   SegmentLeafBlocks segmentBlocks_;  // static trees of segments: blocks of 4 at the frozen time (segment_leaf_blocks.h)
+  ReferenceTriangles refTriangles_;  // trees gathering blocks: each reference's triangle (leaf_intersect.h)
 
  private:
   float boxTime(RayQuery& ray) const {

@@ -16,12 +16,15 @@ class Stbvh final : public WideBvhStructure<N, true> {
   explicit Stbvh(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     const SceneTemporalSource timing(ctx);
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing, true, triangleLeafBlockWidth(ctx));
+    const int leafBlock = triangleLeafBlockWidth(ctx);
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing, true, leafBlock);
+    if (leafBlock > 1 && ReferenceTriangles::pays(ctx)) Base::refTriangles_ = ReferenceTriangles(ctx, bvh_.prims);
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange r) { return activeSegments(ctx_, p, r); }, sums);
+    sums.bytes += Base::refTriangles_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
   }
 
