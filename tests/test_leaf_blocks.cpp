@@ -212,16 +212,34 @@ TEST(LeafBlocks, LeavesWithFiltersAreNotBlocked) {
   EXPECT_TRUE(detail::TriangleLeafBlocks(ctx, unaligned, fixed, 0.0f).empty());
 }
 
+// The grids of the motion-leaf tests: 5, 2 and 1 steps (one alive over
+// part of the shutter only), masks 1 to 3, and one beyond float's
+// edge-function range (the double path).
+void addMotionGrids(Scene& scene) {
+  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 5, true), 1u);
+  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 2, false, {0.25f, 0.75f}), 2u);
+  scene.setMask(addGrid(scene, 4, 1.0f, 0.25f, 1, true), 3u);
+  addGrid(scene, 3, 1e13f, 0.5f, 3, true);
+}
+
+// A leaf of 1 to 13 references of geometry g: consecutive triangles, a
+// quarter of them replaced by any other.
+std::vector<detail::PrimRef> drawLeaf(std::mt19937& rng, const Geometry& g, uint32_t geomID) {
+  const uint32_t numTris = uint32_t(g.triangles().size());
+  const uint32_t count = 1 + rng() % 13;
+  const uint32_t first = rng() % (numTris - count);
+  std::vector<detail::PrimRef> refs;
+  for (uint32_t i = 0; i < count; ++i) refs.push_back({geomID, uint32_t(rng() % 4 == 0 ? rng() % numTris : first + i)});
+  return refs;
+}
+
 // Motion blocks: leaves of 1 to 13 references of one geometry, at random
 // times, against intersectPrimitive one by one and intersectLeaf through
 // the vertex buffers; geometries of 1, 2 and 5 steps, one alive over part
 // of the shutter only, masks.
 TEST(LeafBlocks, MotionBlocksAgreeWithTheOneByOneTest) {
   Scene scene;
-  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 5, true), 1u);
-  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 2, false, {0.25f, 0.75f}), 2u);
-  scene.setMask(addGrid(scene, 4, 1.0f, 0.25f, 1, true), 3u);
-  addGrid(scene, 3, 1e13f, 0.5f, 3, true);  // edge functions beyond float: the double path
+  addMotionGrids(scene);
   BuildOptions o;
   detail::BuildBudget budget;
   const detail::SceneContext ctx(scene, o, budget);
@@ -230,11 +248,8 @@ TEST(LeafBlocks, MotionBlocksAgreeWithTheOneByOneTest) {
   for (int trial = 0; trial < 6000; ++trial) {
     const uint32_t geomID = rng() % scene.numGeometries();
     const Geometry& g = ctx.geometry(geomID);
-    const uint32_t numTris = uint32_t(g.triangles().size());
-    const uint32_t count = 1 + rng() % 13;
-    const uint32_t first = rng() % (numTris - count);
-    std::vector<detail::PrimRef> refs;
-    for (uint32_t i = 0; i < count; ++i) refs.push_back({geomID, uint32_t(rng() % 4 == 0 ? rng() % numTris : first + i)});
+    std::vector<detail::PrimRef> refs = drawLeaf(rng, g, geomID);
+    const uint32_t count = uint32_t(refs.size());
     const detail::WideBvh<8, true> bvh = oneLeaf<true>(refs);
     const detail::MotionLeafBlocks mb(ctx, bvh);
     const detail::MotionLeafBlocks::Leaf* leaf = mb.of(0);
@@ -286,10 +301,7 @@ TEST(LeafBlocks, MotionBlocksAgreeWithTheOneByOneTest) {
 // gather's 12-byte loads at any alignment, none past a vertex).
 TEST(LeafBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
   Scene scene;
-  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 5, true), 1u);
-  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 2, false, {0.25f, 0.75f}), 2u);
-  scene.setMask(addGrid(scene, 4, 1.0f, 0.25f, 1, true), 3u);
-  addGrid(scene, 3, 1e13f, 0.5f, 3, true);  // edge functions beyond float: the double path
+  addMotionGrids(scene);
   const uint32_t shared = addGrid(scene, 4, 1.0f, 0.5f, 2, true);
   // The shared grid's steps copied 20 bytes apart from an odd address,
   // ending exactly at the last vertex's z (nothing readable after it).
@@ -311,11 +323,7 @@ TEST(LeafBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
   for (int trial = 0; trial < 8000; ++trial) {
     const uint32_t geomID = rng() % scene.numGeometries();
     const Geometry& g = ctx.geometry(geomID);
-    const uint32_t numTris = uint32_t(g.triangles().size());
-    const uint32_t count = 1 + rng() % 13;
-    const uint32_t first = rng() % (numTris - count);
-    std::vector<detail::PrimRef> refs;
-    for (uint32_t i = 0; i < count; ++i) refs.push_back({geomID, uint32_t(rng() % 4 == 0 ? rng() % numTris : first + i)});
+    std::vector<detail::PrimRef> refs = drawLeaf(rng, g, geomID);
     if (trial % 3 == 0) {  // a second geometry's run after the first
       const uint32_t other = (geomID + 1) % scene.numGeometries();
       const uint32_t more = 1 + rng() % 6;

@@ -14,6 +14,8 @@
 // SIMD lanes (leaf_block::testGatheredRun), with the same hits.
 #pragma once
 
+#include <algorithm>
+#include <span>
 #include <vector>
 
 #include "core/huge_pages.h"
@@ -188,7 +190,6 @@ inline uint32_t presentLanes(uint32_t left) {
   return left < uint32_t(kLeafBlockWidth) ? (1u << left) - 1u : (1u << kLeafBlockWidth) - 1u;
 }
 
-
 // The smallest run that is gathered into blocks; one triangle alone is
 // cheaper tested by itself.
 inline constexpr uint32_t kGatheredRunMin = 2;
@@ -357,8 +358,9 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
         if (gathered(g, v, blockRay, end - begin)) {
           if (counters) counters->blockPrimitiveTests += end - begin;
           leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit, indices);
-        } else
+        } else {
           leaf_run::testRun(g, prims, begin, end, ray, onHit, v);
+        }
       } else {
         for (uint32_t i = begin; i < end; ++i) found |= intersectPrimitive(ctx, prims[i], ray, hit, counters);
       }
@@ -380,9 +382,10 @@ inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t
       if (leaf_run::plainRun(g)) {
         const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
         const auto onHit = [](const Hit&) { return true; };
-        if (gathered(g, v, blockRay, end - begin) ? leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit, indices)
-                                                  : leaf_run::testRun(g, prims, begin, end, ray, onHit, v))
-          return true;
+        const bool hit = gathered(g, v, blockRay, end - begin)
+                             ? leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit, indices)
+                             : leaf_run::testRun(g, prims, begin, end, ray, onHit, v);
+        if (hit) return true;
       } else {
         for (uint32_t i = begin; i < end; ++i)
           if (occludedPrimitive(ctx, prims[i], ray)) return true;
