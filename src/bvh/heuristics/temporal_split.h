@@ -51,8 +51,9 @@ bool temporalSplitTime(std::span<const BuildRef> refs, TimeRange range, const Te
 // Cost (MBSAH, §3.2) of the split at `time` whose halves' references are
 // `left` and `right` (splitTemporal), each half charged in leaf blocks of
 // `leafBlock` as an object split's sides are (leafBlocks, binned_sah.h;
-// charged per reference, the halves lose to every per-block object split). The builder makes the halves once and keeps them when the
-// split is taken (each half's bounds are recomputed only once, Fig. 4).
+// charged per reference, the halves lose to every per-block object split).
+// The builder makes the halves once and keeps them when the split is taken
+// (each half's bounds are recomputed only once, Fig. 4).
 TemporalSplit temporalSplitCost(std::span<const BuildRef> left, std::span<const BuildRef> right, TimeRange range,
                                 float time, int leafBlock = 1);
 
