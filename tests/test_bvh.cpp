@@ -372,7 +372,7 @@ TEST(Bvh, EmptyAndTinyScenes) {
   }
 }
 
-// Leaves test one geometry's run at a time (bvh/leaf_intersect.h): leaves
+// Leaves test one geometry's run at a time (scene/leaf_intersect.h): leaves
 // mixing many small meshes and segments, some masked, some filtered, some
 // alive only part of the shutter, must answer exactly as brute force.
 TEST(Bvh, LeavesMixingGeometriesHonourMasksAndFilters) {

@@ -19,6 +19,7 @@
 
 #include "bvh/leaf_blocks.h"
 #include "bvh/motion_leaf_blocks.h"
+#include "kd/kd_leaf_batch.h"
 #include "oracle.h"
 #include "scene/scene_context.h"
 #include "leaf_test_grid.h"
@@ -372,6 +373,64 @@ TEST(LeafBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
   EXPECT_GT(gathered, 3000);
 }
 
+// The kd kinds' leaves (kd/kd_leaf_batch.h): the references that pass a
+// leaf's kd checks, of up to three geometries in any order and up to the
+// batch's capacity, tested together, against intersectPrimitive one by one
+// over the same references in geometry order (the batch's promise for
+// ties), at random times and on steps; and the batch is empty afterwards.
+TEST(LeafBlocks, KdLeafBatchesAgreeWithTheOneByOneTest) {
+  Scene scene;
+  addMotionGrids(scene);
+  BuildOptions o;
+  detail::BuildBudget budget;
+  const detail::SceneContext ctx(scene, o, budget);
+  std::mt19937 rng(11);
+  int hits = 0, gathered = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    std::vector<detail::PrimRef> refs;
+    const uint32_t n = 1 + rng() % detail::KdLeafBatch::kCapacity;
+    const uint32_t geoms = 1 + rng() % 3, first = rng() % scene.numGeometries();
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t geomID = (first + rng() % geoms) % scene.numGeometries();
+      refs.push_back({geomID, uint32_t(rng() % ctx.geometry(geomID).triangles().size())});
+    }
+    float time = std::uniform_real_distribution<float>(0, 1)(rng);
+    if (trial % 5 == 0) time = float(rng() % 5) / 4.0f;  // on a step, at the ends of the range
+    const detail::PrimRef aim = refs[rng() % n];
+    const Geometry& ag = ctx.geometry(aim.geomID);
+    detail::RayQuery ray = rayTowards(rng, ag, aim.primID, aim.geomID == 3 ? 1e13f : 1.0f,
+                                      ag.timeRange().contains(time) ? time : 0.5f);
+    ray.time = time;
+    test::varyMaskAndTfar(rng, trial, ray);
+    std::vector<detail::PrimRef> inGeometryOrder = refs;
+    std::stable_sort(inGeometryOrder.begin(), inGeometryOrder.end(),
+                     [](detail::PrimRef a, detail::PrimRef b) { return a.geomID < b.geomID; });
+    const test::OneByOne reference = test::oneByOne(ctx, std::span(inGeometryOrder), ray);
+    const detail::BlockRay<4> r(ray);
+    const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(n) + " references";
+    detail::KdLeafBatch closest, any;
+    for (const detail::PrimRef& p : refs) {
+      closest.add(p);
+      any.add(p);
+    }
+    EXPECT_EQ(closest.full(), n == detail::KdLeafBatch::kCapacity);
+    detail::RayQuery viaBatch = ray, anyBatch = ray;
+    Hit got;
+    TraversalCounters c;
+    ASSERT_EQ((closest.test<false, true>(ctx, viaBatch, &got, &c, r)), reference.found) << what;
+    EXPECT_TRUE(sameBits(viaBatch.tfar, reference.ray.tfar)) << what;
+    if (reference.found) expectSameHit(got, reference.hit, what);
+    EXPECT_EQ((any.test<true, false>(ctx, anyBatch, nullptr, nullptr, r)), reference.occluded) << what;
+    EXPECT_EQ(c.primitiveTests, n) << what;
+    EXPECT_LE(c.blockPrimitiveTests, n) << what;
+    EXPECT_TRUE(closest.empty() && any.empty()) << what;
+    hits += reference.found;
+    gathered += c.blockPrimitiveTests > 0;
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(gathered, 3000);
+}
+
 // A motion leaf of two geometries, or of a geometry with a filter, is not
 // blocked (its runs take intersectLeaf's paths).
 TEST(LeafBlocks, MixedOrFilteredMotionLeavesAreNotBlocked) {
@@ -482,7 +541,7 @@ TEST(LeafBlocks, TreesKeepingReferenceTrianglesAgreeWithBrute) {
 TEST(LeafBlocks, CountersAndStatsReportTheBlocks) {
   const ProceduralScene ps = makeProceduralScene("translate", 0.02, 5);
   const auto rays = test::oracleRays(ps, 500, 0, 23);
-  for (AccelKind kind : {AccelKind::BvhInterp, AccelKind::Stbvh}) {
+  for (AccelKind kind : {AccelKind::BvhInterp, AccelKind::Stbvh, AccelKind::Mbkd, AccelKind::FuzzyKd}) {
     BuildOptions o;
     o.kind = kind;
     auto accel = Accel::build(*ps.scene, o);
@@ -497,10 +556,13 @@ TEST(LeafBlocks, CountersAndStatsReportTheBlocks) {
       EXPECT_EQ(c.blockPrimitiveTests, c.primitiveTests);
       EXPECT_GT(st.leafBlockBytes, 0u);
       EXPECT_LT(st.leafBlockBytes, st.bytes);
-    } else {
+    } else if (kind == AccelKind::Stbvh) {
       EXPECT_GT(c.blockPrimitiveTests, c.primitiveTests / 2);
       EXPECT_LE(c.blockPrimitiveTests, c.primitiveTests);
       EXPECT_EQ(st.leafBlockBytes, 0u);
+    } else {  // the kd kinds gather a leaf's surviving triangles (kd_leaf_batch.h)
+      EXPECT_GT(c.blockPrimitiveTests, 0u) << toString(kind);
+      EXPECT_LE(c.blockPrimitiveTests, c.primitiveTests) << toString(kind);
     }
   }
 }

@@ -1,4 +1,4 @@
-// The leaf test of the BVH kinds (bvh/leaf_intersect.h: runs of one
+// The leaf test of the BVH kinds (scene/leaf_intersect.h: runs of one
 // geometry) against the oracle's one-by-one test: a leaf of n references must give
 // exactly the hit (bits of t, u, v, Ng, ids) and the final tfar that
 // intersectPrimitive on each reference in order gives, for leaves of every
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <random>
 
-#include "bvh/leaf_intersect.h"
+#include "scene/leaf_intersect.h"
 #include "leaf_test_grid.h"
 #include "scene/scene_context.h"
 #include "test_util.h"

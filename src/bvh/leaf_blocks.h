@@ -19,7 +19,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "bvh/leaf_intersect.h"
+#include "scene/leaf_intersect.h"
 #include "bvh/nodes/wide_bvh.h"
 #include "core/huge_pages.h"
 #include "geometry/triangle_block.h"

@@ -14,7 +14,7 @@
 #include "bvh/leaf_blocks.h"
 #include "bvh/motion_leaf_blocks.h"
 #include "bvh/segment_leaf_blocks.h"
-#include "bvh/leaf_intersect.h"
+#include "scene/leaf_intersect.h"
 
 namespace mbrt::detail {
 
@@ -224,7 +224,7 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
 // static tree's leaf `blocks` (leaf_blocks.h) or `segmentBlocks`
 // (segment_leaf_blocks.h), or a motion tree's `motionBlocks`
 // (motion_leaf_blocks.h), when given; other leaves gather their runs into
-// blocks (leaf_intersect.h), through `refTriangles` when given. Count adds nodes
+// blocks (scene/leaf_intersect.h), through `refTriangles` when given. Count adds nodes
 // visited, box tests and primitive tests.
 //
 // The nodes may be tested with another ray than the leaves, of the same

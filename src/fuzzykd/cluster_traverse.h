@@ -3,7 +3,9 @@
 // (scene/instance_space.h, the map interpolated at its time) down the
 // cluster's fuzzy tree; leaf triangles are tested in world space at the ray's
 // time (scene/primitive_intersect.h), so a hit shortens the world ray and the
-// local one alike (same parameter t).
+// local one alike (same parameter t). A leaf's triangles are tested
+// together, four at a time (kd/kd_leaf_batch.h); blockRay is BlockRay(ray),
+// made once per ray.
 #pragma once
 
 #include "fuzzykd/cluster.h"
@@ -14,7 +16,7 @@ namespace mbrt::detail {
 
 template <bool AnyHit, bool Count>
 bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, Hit* hit,
-                     TraversalCounters* counters) {
+                     TraversalCounters* counters, const BlockRay<kLeafBlockWidth>& blockRay) {
   const Geometry& geo = ctx.geometry(c.geomID);
   if constexpr (Count) ++counters->boxTests;
   if (!rayHitsBox(ray, c.boxAt(geo, ray.time))) return false;
@@ -24,19 +26,20 @@ bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, H
   const FuzzyTree& tree = c.tree;
   KdMailbox mailbox;
   return kdWalk<AnyHit, Count>(tree, local, counters, [&](const KdNode& n) {
+    KdLeafBatch batch;
     bool found = false;
     const uint32_t* refs = tree.refs.data() + n.first();
     for (uint32_t i = 0, cnt = n.count(); i < cnt; ++i) {
       const uint32_t prim = refs[i];
       if (mailbox.seen(prim)) continue;
-      if constexpr (Count) ++counters->primitiveTests;
-      if constexpr (AnyHit) {
-        if (occludedPrimitive(ctx, c.prims[prim], ray)) return true;
-      } else if (intersectPrimitive(ctx, c.prims[prim], ray, *hit, Count ? counters : nullptr)) {
+      batch.add(c.prims[prim]);
+      if (batch.full() && batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay)) {
+        if constexpr (AnyHit) return true;
         found = true;
-        local.tfar = ray.tfar;
       }
     }
+    found = batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay) || found;
+    if (found) local.tfar = ray.tfar;
     return found;
   });
 }

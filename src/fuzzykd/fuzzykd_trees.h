@@ -24,8 +24,10 @@ struct FuzzyKdTrees {
 template <bool AnyHit, bool Count>
 bool traceTrees(const SceneContext& ctx, const FuzzyKdTrees& trees, RayQuery& ray, Hit* hit,
                 TraversalCounters* counters) {
+  const BlockRay<kLeafBlockWidth> blockRay(ray);
   return traverseTop<AnyHit, Count>(trees.top, ray, counters, [&](uint32_t item) {
-    if (item != trees.worldItem()) return traverseCluster<AnyHit, Count>(ctx, trees.clusters[item], ray, hit, counters);
+    if (item != trees.worldItem())
+      return traverseCluster<AnyHit, Count>(ctx, trees.clusters[item], ray, hit, counters, blockRay);
     if constexpr (Count) ++counters->boxTests;
     return trees.world.traverse<AnyHit, Count>(ctx, ray, hit, counters);
   });

@@ -15,7 +15,7 @@
 #include <cmath>
 
 #include "core/robust_slab.h"
-#include "scene/primitive_intersect.h"
+#include "kd/kd_leaf_batch.h"
 #include "kd/kd_node.h"
 
 namespace mbrt::detail {
@@ -142,12 +142,15 @@ bool kdWalk(const Tree& tree, RayQuery& ray, TraversalCounters* counters, Leaf&&
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
 // prims[i] is the primitive of reference index i. `filter(prim, ray)` may
 // reject a reference before its test (counted as a box test when active).
+// A leaf's surviving references are tested together (kd_leaf_batch.h).
 template <bool AnyHit, bool Count, class Filter = KdNoRefFilter>
 bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prims, RayQuery& ray, Hit* hit,
                 TraversalCounters* counters, const Filter& filter = {}) {
   KdMailbox mailbox;
+  const BlockRay<kLeafBlockWidth> blockRay(ray);
   const float time = ray.time;
   return kdWalk<AnyHit, Count>(tree, ray, counters, [&](const KdNode& n) {
+    KdLeafBatch batch;
     bool found = false;
     const KdLeafRef* refs = tree.refs.data() + n.first();
     for (uint32_t i = 0, c = n.count(); i < c; ++i) {
@@ -157,14 +160,13 @@ bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prim
         if constexpr (Count) ++counters->boxTests;
         if (!filter(r.prim, ray)) continue;
       }
-      if constexpr (Count) ++counters->primitiveTests;
-      if constexpr (AnyHit) {
-        if (occludedPrimitive(ctx, prims[r.prim], ray)) return true;
-      } else {
-        found |= intersectPrimitive(ctx, prims[r.prim], ray, *hit, Count ? counters : nullptr);
+      batch.add(prims[r.prim]);
+      if (batch.full() && batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay)) {
+        if constexpr (AnyHit) return true;
+        found = true;
       }
     }
-    return found;
+    return batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay) || found;
   });
 }
 

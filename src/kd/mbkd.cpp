@@ -5,6 +5,7 @@
 #include "core/inspect.h"
 #include "core/sah_sums.h"
 #include "core/traced_structure.h"
+#include "kd/kd_leaf_batch.h"
 #include "kd/kd_leaf_blocks.h"
 #include "kd/kd_traverse.h"
 #include "scene/primitive_bounds.h"
@@ -113,16 +114,19 @@ class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
   }
   static constexpr float kShortestExtrapolated = 1.0f / 64;
 
-  // Traversal with SIMD leaves (kd_leaf_blocks.h): blocks are sorted by
-  // interval start, so the first block starting after the ray's time ends
-  // the leaf.
+  // Traversal with SIMD leaves: each block's references are checked eight at
+  // a time (kd_leaf_blocks.h; blocks are sorted by interval start, so the
+  // first block starting after the ray's time ends the leaf), and the
+  // survivors' triangles are tested four at a time (kd_leaf_batch.h).
   template <bool AnyHit, bool Count>
   bool traceBlocks(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     KdPrimMailbox mailbox;
     const KdBlockRay blockRay(ray);
+    const BlockRay<kLeafBlockWidth> triangleRay(ray);
     const float time = ray.time;
     return kdWalk<AnyHit, Count>(blocks_.cells, ray, counters, [&](const KdNode& n) {
       bool found = false;
+      KdLeafBatch batch;
       blocks_.prefetch(n);
       for (uint32_t k = n.first(), end = n.first() + n.count(); k < end; ++k) {
         const KdLeafBlock& block = blocks_.blocks[k];
@@ -132,14 +136,18 @@ class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
         if constexpr (Count) counters->boxTests += uint64_t(std::popcount(alive));
         for (; hits != 0; hits &= hits - 1) {
           const PrimRef prim = block.prim[std::countr_zero(hits)];
-          if (mailbox.seen(prim)) continue;
-          if constexpr (Count) ++counters->primitiveTests;
-          if constexpr (AnyHit) {
-            if (occludedPrimitive(ctx_, prim, ray)) return true;
-          } else {
-            found |= intersectPrimitive(ctx_, prim, ray, *hit, Count ? counters : nullptr);
+          if (!mailbox.seen(prim)) batch.add(prim);
+        }
+        if (batch.holdsABlock()) {
+          if (batch.test<AnyHit, Count>(ctx_, ray, hit, counters, triangleRay)) {
+            if constexpr (AnyHit) return true;
+            found = true;
           }
         }
+      }
+      if (batch.test<AnyHit, Count>(ctx_, ray, hit, counters, triangleRay)) {
+        if constexpr (AnyHit) return true;
+        found = true;
       }
       return found;
     });

@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "bvh/inspect.h"
-#include "bvh/leaf_intersect.h"
+#include "scene/leaf_intersect.h"
 #include "bvh/sah_cost.h"
 #include "bvh/traverse.h"
 #include "core/huge_pages.h"

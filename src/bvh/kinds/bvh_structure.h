@@ -77,11 +77,11 @@ class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, pu
 
   const SceneContext& ctx_;
   WideBvh<N, Motion> bvh_;
-  FixedTimeTriangles stored_;  // static trees: the triangles at the frozen time (leaf_intersect.h)
+  FixedTimeTriangles stored_;  // static trees: the triangles at the frozen time (scene/leaf_intersect.h)
   TriangleLeafBlocks blocks_;  // static trees: leaves as blocks of 4 at the frozen time (leaf_blocks.h)
   MotionLeafBlocks motionBlocks_;  // motion trees: leaves as blocks of 4 at every step (motion_leaf_blocks.h)
   SegmentLeafBlocks segmentBlocks_;  // static trees of segments: blocks of 4 at the frozen time (segment_leaf_blocks.h)
-  ReferenceTriangles refTriangles_;  // trees gathering blocks: each reference's triangle (leaf_intersect.h)
+  ReferenceTriangles refTriangles_;  // trees gathering blocks: each reference's triangle (scene/leaf_intersect.h)
 
  private:
   float boxTime(RayQuery& ray) const {

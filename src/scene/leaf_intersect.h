@@ -1,6 +1,7 @@
-// The leaf test of the BVH kinds: a leaf's references, sorted by geometry
-// when the builder stores the leaf (builder.cpp), are tested one run of a
-// geometry at a time. A run checks the geometry's mask and time range and
+// The leaf test of every kind with leaves (the BVH kinds, msbvh, and the
+// kd kinds' surviving references): a leaf's references, sorted by geometry
+// where the builder stores the leaf (bvh/build/builder.cpp), are tested one
+// run of a geometry at a time. A run checks the geometry's mask and time range and
 // finds the ray's motion segment once, then interpolates each primitive's
 // vertices with the same arithmetic as `intersectPrimitive`
 // (primitive_intersect.h), so hits are bit-identical to testing the
