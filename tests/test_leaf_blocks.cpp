@@ -346,7 +346,7 @@ TEST(LeafBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
     Hit runHit, got, indexedHit;
     const detail::ReferenceTriangles indices(ctx, refs);
     const test::OneByOne reference = test::oneByOne(ctx, std::span(refs), ray);
-    const detail::BlockRay<4> r(ray);
+    const detail::LeafBlockRay r(ray);
     const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(n) + " references";
     TraversalCounters c;
     ASSERT_EQ(detail::intersectLeaf(ctx, refs.data(), n, viaRuns, runHit, nullptr), reference.found) << what;
@@ -406,7 +406,7 @@ TEST(LeafBlocks, KdLeafBatchesAgreeWithTheOneByOneTest) {
     std::stable_sort(inGeometryOrder.begin(), inGeometryOrder.end(),
                      [](detail::PrimRef a, detail::PrimRef b) { return a.geomID < b.geomID; });
     const test::OneByOne reference = test::oneByOne(ctx, std::span(inGeometryOrder), ray);
-    const detail::BlockRay<4> r(ray);
+    const detail::LeafBlockRay r(ray);
     const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(n) + " references";
     detail::KdLeafBatch closest, any;
     for (const detail::PrimRef& p : refs) {

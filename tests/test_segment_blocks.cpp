@@ -6,11 +6,13 @@
 // another's cap, points, sizes beyond float's range that go to double,
 // origins inside the solid); a blocked leaf finds the hit of
 // intersectPrimitive on each reference in order (bits of t, u, Ng, ids, the
-// final tfar, occlusion) with masks, steps and leaf sizes 1 to 13; and the
-// tree of a hair scene is laid out in segment blocks and agrees with brute
+// final tfar, occlusion) with masks, steps and leaf sizes 1 to 13, as do
+// runs gathered into blocks at the ray's time (the motion trees' leaves,
+// scene/leaf_intersect.h); and the tree of a hair scene is laid out in segment blocks and agrees with brute
 // force at the frozen time.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "bvh/segment_leaf_blocks.h"
@@ -165,6 +167,64 @@ TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
       hits += reference.found;
     }
     EXPECT_GT(hits, 800);
+  }
+}
+
+// Runs of segments gathered into blocks at the ray's time through their
+// vertex indices (leaf_block::testGathered, what the motion trees' and the
+// kd kinds' leaves do): leaves of 1 to 13 references of up to three
+// strand geometries of 1 or 3 steps (one a copy of another: ties), at
+// random times and on the steps, through intersectLeaf and occludedLeaf
+// with the block ray, against intersectPrimitive one by one and against
+// the same leaf test without it.
+TEST(SegmentBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
+  for (uint32_t steps : {1u, 3u}) {
+    Scene scene;
+    scene.setMask(addStrands(scene, 8, steps, 0.0f), 1u);
+    scene.setMask(addStrands(scene, 8, steps, 0.0f), 2u);  // the same segments: ties across geometries
+    scene.setMask(addStrands(scene, 5, steps, 0.1f), 3u);
+    BuildOptions o;
+    detail::BuildBudget budget;
+    const detail::SceneContext ctx(scene, o, budget);
+    const std::vector<detail::PrimRef> all = ctx.primitives();
+    std::mt19937 rng(17);
+    int hits = 0, gathered = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+      const uint32_t count = 1 + rng() % 13;
+      std::vector<detail::PrimRef> refs;
+      const uint32_t first = rng() % uint32_t(all.size() - count);
+      for (uint32_t i = 0; i < count; ++i) refs.push_back(rng() % 4 == 0 ? all[rng() % all.size()] : all[first + i]);
+      std::stable_sort(refs.begin(), refs.end(),
+                       [](detail::PrimRef a, detail::PrimRef b) { return a.geomID < b.geomID; });
+      float time = std::uniform_real_distribution<float>(0, 1)(rng);
+      if (trial % 5 == 0) time = float(rng() % 3) / 2.0f;  // on a step, at the ends of the shutter
+      const detail::PrimRef aim = refs[rng() % count];
+      const Geometry& g = ctx.geometry(aim.geomID);
+      const Segment& s = g.segments()[aim.primID];
+      const Vec3f p0 = g.vertexAt(time, s.v0), p1 = g.vertexAt(time, s.v1);
+      detail::RayQuery ray = rayNear(rng, p0, p1, 0.03f, 1.0f);
+      ray.time = time;
+      test::varyMaskAndTfar(rng, trial, ray);
+      const test::OneByOne reference = test::oneByOne(ctx, refs, ray);
+      const std::string what = "steps " + std::to_string(steps) + ", trial " + std::to_string(trial);
+      detail::RayQuery viaBlocks = ray, viaRuns = ray, anyBlocks = ray;
+      Hit got, runHit;
+      TraversalCounters c;
+      const detail::LeafBlockRay r(ray);
+      ASSERT_EQ(detail::intersectLeaf(ctx, refs.data(), count, viaBlocks, got, &c, nullptr, &r), reference.found)
+          << what;
+      ASSERT_EQ(detail::intersectLeaf(ctx, refs.data(), count, viaRuns, runHit, nullptr), reference.found) << what;
+      EXPECT_TRUE(sameBits(viaBlocks.tfar, reference.ray.tfar)) << what;
+      if (reference.found) {
+        expectSameHit(got, reference.hit, what);
+        expectSameHit(got, runHit, what);
+      }
+      EXPECT_EQ(detail::occludedLeaf(ctx, refs.data(), count, anyBlocks, nullptr, &r), reference.occluded) << what;
+      hits += reference.found;
+      gathered += c.blockPrimitiveTests > 0;
+    }
+    EXPECT_GT(hits, 800);
+    EXPECT_GT(gathered, 2000);
   }
 }
 

@@ -241,7 +241,7 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
   const bool useSegmentBlocks = !Motion && segmentBlocks && ray.time == segmentBlocks->time;
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(nodeRay, boxTime);
-  const BlockRay<kLeafBlockWidth> blockRay(ray);
+  const LeafBlockRay blockRay(ray);
   const SegmentBlockRay<kLeafBlockWidth> segmentRay =
       useSegmentBlocks ? SegmentBlockRay<kLeafBlockWidth>(ray) : SegmentBlockRay<kLeafBlockWidth>();
   const auto leaf = [&](const TraversalItem& item) {

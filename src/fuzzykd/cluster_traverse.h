@@ -16,7 +16,7 @@ namespace mbrt::detail {
 
 template <bool AnyHit, bool Count>
 bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, Hit* hit,
-                     TraversalCounters* counters, const BlockRay<kLeafBlockWidth>& blockRay) {
+                     TraversalCounters* counters, const LeafBlockRay& blockRay) {
   const Geometry& geo = ctx.geometry(c.geomID);
   if constexpr (Count) ++counters->boxTests;
   if (!rayHitsBox(ray, c.boxAt(geo, ray.time))) return false;

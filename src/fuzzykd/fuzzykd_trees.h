@@ -24,7 +24,7 @@ struct FuzzyKdTrees {
 template <bool AnyHit, bool Count>
 bool traceTrees(const SceneContext& ctx, const FuzzyKdTrees& trees, RayQuery& ray, Hit* hit,
                 TraversalCounters* counters) {
-  const BlockRay<kLeafBlockWidth> blockRay(ray);
+  const LeafBlockRay blockRay(ray);
   return traverseTop<AnyHit, Count>(trees.top, ray, counters, [&](uint32_t item) {
     if (item != trees.worldItem())
       return traverseCluster<AnyHit, Count>(ctx, trees.clusters[item], ray, hit, counters, blockRay);

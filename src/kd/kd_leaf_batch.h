@@ -34,7 +34,7 @@ class KdLeafBatch {
   // gathered ones as block tests (as the BVH leaves count them).
   template <bool AnyHit, bool Count>
   bool test(const SceneContext& ctx, RayQuery& ray, Hit* hit, TraversalCounters* counters,
-            const BlockRay<kLeafBlockWidth>& blockRay) {
+            const LeafBlockRay& blockRay) {
     const uint32_t n = n_;
     n_ = 0;
     if (n == 0) return false;

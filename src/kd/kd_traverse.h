@@ -147,7 +147,7 @@ template <bool AnyHit, bool Count, class Filter = KdNoRefFilter>
 bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prims, RayQuery& ray, Hit* hit,
                 TraversalCounters* counters, const Filter& filter = {}) {
   KdMailbox mailbox;
-  const BlockRay<kLeafBlockWidth> blockRay(ray);
+  const LeafBlockRay blockRay(ray);
   const float time = ray.time;
   return kdWalk<AnyHit, Count>(tree, ray, counters, [&](const KdNode& n) {
     KdLeafBatch batch;

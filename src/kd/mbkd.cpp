@@ -122,7 +122,7 @@ class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
   bool traceBlocks(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     KdPrimMailbox mailbox;
     const KdBlockRay blockRay(ray);
-    const BlockRay<kLeafBlockWidth> triangleRay(ray);
+    const LeafBlockRay triangleRay(ray);
     const float time = ray.time;
     return kdWalk<AnyHit, Count>(blocks_.cells, ray, counters, [&](const KdNode& n) {
       bool found = false;

@@ -441,7 +441,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
   bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     if (nodes_.empty()) return false;
     const KeyRay<packWidth<N>()> r(ray, n_);
-    const BlockRay<kLeafBlockWidth> blockRay(ray);  // the leaves' runs are gathered into blocks
+    const LeafBlockRay blockRay(ray);  // the leaves' runs are gathered into blocks
     return wideTraverse<AnyHit, Count, N>(
         stackSize_, ray, counters, [&](uint32_t i) -> const MsNode<N>& { return nodes_.node(i); },
         [&](const MsNode<N>&, uint32_t i, float* dist) {

@@ -10,9 +10,9 @@
 // A static tree (`frozen`) reads its triangles from FixedTimeTriangles,
 // the vertices at its one time laid out per primitive, instead of
 // interpolating them through the indices (docs/performance.md).
-// Where the traversal gives a BlockRay, a run of two or more triangles is
-// gathered four at a time into a block at the ray's time and tested in
-// SIMD lanes (leaf_block::testGatheredRun), with the same hits.
+// Where the traversal gives a LeafBlockRay, a run of two or more triangles
+// or segments is gathered four at a time into a block at the ray's time and
+// tested in SIMD lanes (leaf_block::testGathered), with the same hits.
 #pragma once
 
 #include <algorithm>
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/huge_pages.h"
+#include "geometry/segment_block.h"
 #include "geometry/triangle_block.h"
 #include "scene/primitive_intersect.h"
 
@@ -144,6 +145,26 @@ inline bool plainRun(const Geometry& g) { return g.type() != GeometryType::Insta
 // runs of the others, gathered through their indices (below).
 inline constexpr int kLeafBlockWidth = 4;
 
+// The ray as the gathered blocks take it, made once per ray by a traversal:
+// the triangle block's ray, and the segment block's, made on first use (its
+// unit direction costs a square root and a division that a ray meeting no
+// segment run never needs).
+struct LeafBlockRay : BlockRay<kLeafBlockWidth> {
+  explicit LeafBlockRay(const RayQuery& ray) : BlockRay<kLeafBlockWidth>(ray) {}
+  // Valid while the ray's origin and direction are unchanged.
+  const SegmentBlockRay<kLeafBlockWidth>& segments(const RayQuery& ray) const {
+    if (!segmentsMade_) {
+      segments_ = SegmentBlockRay<kLeafBlockWidth>(ray);
+      segmentsMade_ = true;
+    }
+    return segments_;
+  }
+
+ private:
+  mutable SegmentBlockRay<kLeafBlockWidth> segments_;
+  mutable bool segmentsMade_ = false;
+};
+
 namespace leaf_block {
 
 // The closest hit that test(onHit) reports, as intersectLeaf keeps it:
@@ -195,51 +216,125 @@ inline uint32_t presentLanes(uint32_t left) {
 // cheaper tested by itself.
 inline constexpr uint32_t kGatheredRunMin = 2;
 
+// A geometry's vertices at the ray's time, one to a pack (lanes 0-2: x, y,
+// z), for the gathered blocks: each vertex is one 12-byte load per step
+// (at any alignment, never past the vertex), the two steps interpolated as
+// VerticesAt does (a * (1 - f) + b * f, the same operations lane by lane).
+struct PackedVerticesAt {
+  using P = Pack<kLeafBlockWidth>;
+  const char* d0;
+  const char* d1;  // null: static geometry
+  size_t s0, s1;
+  P w0, w1;
+
+  explicit PackedVerticesAt(const leaf_run::VerticesAt& at)
+      : d0(static_cast<const char*>(at.v0->data)),
+        d1(at.v1 ? static_cast<const char*>(at.v1->data) : nullptr),
+        s0(at.v0->stride),
+        s1(at.v1 ? at.v1->stride : 0),
+        w0(P::set1(1.0f - at.f)),
+        w1(P::set1(at.f)) {}
+  [[gnu::always_inline]] P operator[](uint32_t i) const {
+    P p = P::load3(reinterpret_cast<const float*>(d0 + i * s0));
+    if (d1) p = p * w0 + P::load3(reinterpret_cast<const float*>(d1 + i * s1)) * w1;
+    return p;
+  }
+};
+
+// Four packed vertices (one per lane) as the x, y, z rows of a block's
+// structure of arrays, transposed in registers.
+[[gnu::always_inline]] inline void storeRows(const Pack<kLeafBlockWidth> (&v)[kLeafBlockWidth], float* x, float* y,
+                                             float* z) {
+  Pack<kLeafBlockWidth> px, py, pz;
+  Pack<kLeafBlockWidth>::transposeXyz(v[0], v[1], v[2], v[3], px, py, pz);
+  px.store(x);
+  py.store(y);
+  pz.store(z);
+}
+
 // A run's triangles gathered into blocks of four at the ray's time through
-// their indices, as Embree's Triangle4i and Triangle4iMB leaves do: each
-// vertex is one 12-byte load per step, the two steps interpolated as
-// VerticesAt does (a * (1 - f) + b * f, the same operations lane by lane),
-// and four vertices turned into the block's structure of arrays in
-// registers. onHit(hit) for each candidate hit in reference order, as
-// testRun would call it; stops when onHit returns true. `indices`, when
-// given, holds the references' triangles (ReferenceTriangles, parallel to
-// `prims`); else each is read through its primitive id.
+// their indices, as Embree's Triangle4i and Triangle4iMB leaves do
+// (PackedVerticesAt), and tested by testBlock. onHit(hit) for each
+// candidate hit in reference order, as testRun would call it; stops when
+// onHit returns true. `indices`, when given, holds the references'
+// triangles (ReferenceTriangles, parallel to `prims`); else each is read
+// through its primitive id.
 template <class OnHit>
 inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
                             const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit, const Triangle* indices = nullptr) {
   constexpr int W = kLeafBlockWidth;
-  using P = Pack<W>;
-  const leaf_run::VerticesAt at(g, ray.time);
+  const PackedVerticesAt at(leaf_run::VerticesAt(g, ray.time));
   const std::span<const Triangle> tris = g.triangles();
-  const char* const d0 = static_cast<const char*>(at.v0->data);
-  const char* const d1 = at.v1 ? static_cast<const char*>(at.v1->data) : nullptr;
-  const size_t s0 = at.v0->stride, s1 = at.v1 ? at.v1->stride : 0;
-  const P w0 = P::set1(1.0f - at.f), w1 = P::set1(at.f);
   TriangleBlock<W> block;
   for (uint32_t first = begin; first < end; first += W) {
-    P v[3][W];
+    Pack<W> v[3][W];
     for (int lane = 0; lane < W; ++lane) {
       // Lanes past the run's end repeat its last triangle (not tested).
       const uint32_t i = std::min(first + uint32_t(lane), end - 1);
       const Triangle& t = indices ? indices[i] : tris[prims[i].primID];
-      const uint32_t index[3] = {t.v0, t.v1, t.v2};
-      for (int k = 0; k < 3; ++k) {
-        P p = P::load3(reinterpret_cast<const float*>(d0 + index[k] * s0));
-        if (d1) p = p * w0 + P::load3(reinterpret_cast<const float*>(d1 + index[k] * s1)) * w1;
-        v[k][lane] = p;
-      }
+      v[0][lane] = at[t.v0];
+      v[1][lane] = at[t.v1];
+      v[2][lane] = at[t.v2];
     }
-    for (int k = 0; k < 3; ++k) {
-      P x, y, z;
-      P::transposeXyz(v[k][0], v[k][1], v[k][2], v[k][3], x, y, z);
-      x.store(block.p[k][0]);
-      y.store(block.p[k][1]);
-      z.store(block.p[k][2]);
-    }
+    for (int k = 0; k < 3; ++k) storeRows(v[k], block.p[k][0], block.p[k][1], block.p[k][2]);
     const auto ref = [prims, first](int lane) { return prims[first + uint32_t(lane)]; };
     if (testBlock(block, presentLanes(end - first), ref, ray, r, onHit)) return true;
   }
   return false;
+}
+
+// A run's segments gathered four at a time into a block at the ray's time
+// (geometry/segment_block.h) as the triangles are (PackedVerticesAt), the
+// values `frozen`'s segment blocks hold at their time: the block sorts out
+// four at a time the lanes whose line misses the solid, and the rest go to
+// intersectSegment in reference order, so onHit(hit) is called as testRun
+// would call it; stops when onHit returns true.
+template <class OnHit>
+inline bool testGatheredSegments(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end,
+                                 RayQuery& ray, const SegmentBlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
+  constexpr int W = kLeafBlockWidth;
+  const PackedVerticesAt at(leaf_run::VerticesAt(g, ray.time));
+  const std::span<const Segment> segs = g.segments();
+  const std::span<const float> radii = g.radii();
+  SegmentBlock<W> block;
+  for (uint32_t first = begin; first < end; first += W) {
+    Pack<W> v[2][W];
+    for (int lane = 0; lane < W; ++lane) {
+      // Lanes past the run's end repeat its last segment (not tested).
+      const Segment& s = segs[prims[std::min(first + uint32_t(lane), end - 1)].primID];
+      v[0][lane] = at[s.v0];
+      v[1][lane] = at[s.v1];
+      block.r[0][lane] = radii[s.v0];
+      block.r[1][lane] = radii[s.v1];
+    }
+    for (int k = 0; k < 2; ++k) storeRows(v[k], block.p[k][0], block.p[k][1], block.p[k][2]);
+    for (uint32_t todo = segmentBlockCandidates(r, block, presentLanes(end - first)); todo != 0; todo &= todo - 1) {
+      const int lane = __builtin_ctz(todo);
+      SegmentHit sh;
+      if (!intersectSegment(ray, block.end(0, lane), block.end(1, lane), block.radius(0, lane),
+                            block.radius(1, lane), sh))
+        continue;
+      if (onHit(leaf_detail::segmentHit(prims[first + uint32_t(lane)], sh))) return true;
+    }
+  }
+  return false;
+}
+
+// A plain run of g with the block ray: gathered into blocks when it has two
+// or more triangles or segments not stored at a fixed time (true, with
+// `hit` = whether a test's onHit returned true), else false (test it by the
+// one-by-one path).
+template <class OnHit>
+inline bool testGathered(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
+                         const LeafBlockRay& r, OnHit&& onHit, const Triangle* indices, bool& hit) {
+  if (end - begin < kGatheredRunMin) return false;
+  if (g.type() == GeometryType::Triangles)
+    hit = testGatheredRun(g, prims, begin, end, ray, r, onHit, indices);
+  else if (g.type() == GeometryType::Segments)
+    hit = testGatheredSegments(g, prims, begin, end, ray, r.segments(ray), onHit);
+  else
+    return false;
+  return true;
 }
 
 }  // namespace leaf_block
@@ -328,21 +423,16 @@ struct ReferenceTriangles {
   size_t bytes() const { return tris.size() * sizeof(Triangle); }
 };
 
-// Whether a plain run of `n` references of g is tested gathered into
-// blocks (leaf_block::testGatheredRun) rather than one by one: triangles
-// not stored at a fixed time, when the caller gave the block ray.
-inline bool gathered(const Geometry& g, const Vec3f* stored, const BlockRay<kLeafBlockWidth>* blockRay, uint32_t n) {
-  return blockRay && !stored && n >= leaf_block::kGatheredRunMin && g.type() == GeometryType::Triangles;
-}
-
 // Closest hit among a leaf's references (as intersectPrimitive on each).
 // Stored: the leaf may read triangles from `stored` (static trees only).
-// With `blockRay`, runs are gathered into blocks (`gathered`), reading the
-// references' triangles from `indices` when given (ReferenceTriangles).
+// With `blockRay`, runs of two or more triangles or segments not stored are
+// gathered into blocks (leaf_block::testGathered), reading the references'
+// triangles from `indices` when given (ReferenceTriangles); counters count
+// them as block tests.
 template <bool Stored = false>
 inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray, Hit& hit,
                           TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
-                          const BlockRay<kLeafBlockWidth>* blockRay = nullptr, const Triangle* indices = nullptr) {
+                          const LeafBlockRay* blockRay = nullptr, const Triangle* indices = nullptr) {
   bool found = false;
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
@@ -356,9 +446,9 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
           return false;
         };
         const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
-        if (gathered(g, v, blockRay, end - begin)) {
+        bool unused;
+        if (blockRay && !v && leaf_block::testGathered(g, prims, begin, end, ray, *blockRay, onHit, indices, unused)) {
           if (counters) counters->blockPrimitiveTests += end - begin;
-          leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit, indices);
         } else {
           leaf_run::testRun(g, prims, begin, end, ray, onHit, v);
         }
@@ -374,8 +464,8 @@ inline bool intersectLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_
 // Any hit among a leaf's references (as occludedPrimitive on each).
 template <bool Stored = false>
 inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t count, RayQuery& ray,
-                         const FixedTimeTriangles* stored = nullptr,
-                         const BlockRay<kLeafBlockWidth>* blockRay = nullptr, const Triangle* indices = nullptr) {
+                         const FixedTimeTriangles* stored = nullptr, const LeafBlockRay* blockRay = nullptr,
+                         const Triangle* indices = nullptr) {
   for (uint32_t begin = 0; begin < count;) {
     const uint32_t end = leaf_run::runEnd(prims, begin, count);
     const Geometry& g = ctx.geometry(prims[begin].geomID);
@@ -383,9 +473,9 @@ inline bool occludedLeaf(const SceneContext& ctx, const PrimRef* prims, uint32_t
       if (leaf_run::plainRun(g)) {
         const Vec3f* v = Stored && stored ? stored->of(prims[begin].geomID) : nullptr;
         const auto onHit = [](const Hit&) { return true; };
-        const bool hit = gathered(g, v, blockRay, end - begin)
-                             ? leaf_block::testGatheredRun(g, prims, begin, end, ray, *blockRay, onHit, indices)
-                             : leaf_run::testRun(g, prims, begin, end, ray, onHit, v);
+        bool hit = false;
+        if (!(blockRay && !v && leaf_block::testGathered(g, prims, begin, end, ray, *blockRay, onHit, indices, hit)))
+          hit = leaf_run::testRun(g, prims, begin, end, ray, onHit, v);
         if (hit) return true;
       } else {
         for (uint32_t i = begin; i < end; ++i)
