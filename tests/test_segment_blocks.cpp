@@ -117,12 +117,42 @@ uint32_t addStrands(Scene& scene, int n, uint32_t steps, float lift) {
   return scene.addSegments(std::move(segs), std::move(pos), std::move(radii));
 }
 
+// The strand geometries of the leaf tests: two copies of 8 strands (masks
+// 1 and 2: ties across geometries) and 5 strands lifted above them (mask 3).
+void addStrandLeafGeometries(Scene& scene, uint32_t steps) {
+  scene.setMask(addStrands(scene, 8, steps, 0.0f), 1u);
+  scene.setMask(addStrands(scene, 8, steps, 0.0f), 2u);
+  scene.setMask(addStrands(scene, 5, steps, 0.1f), 3u);
+}
+
+// A leaf of 1 to 13 references from `all`, mostly consecutive (one
+// geometry's neighbours), a quarter of them drawn anywhere.
+std::vector<detail::PrimRef> drawStrandLeaf(std::mt19937& rng, const std::vector<detail::PrimRef>& all) {
+  const uint32_t count = 1 + rng() % 13;
+  std::vector<detail::PrimRef> refs;
+  const uint32_t first = rng() % uint32_t(all.size() - count);
+  for (uint32_t i = 0; i < count; ++i) refs.push_back(rng() % 4 == 0 ? all[rng() % all.size()] : all[first + i]);
+  return refs;
+}
+
+// A ray at `time` passing near one of the references' segments, with the
+// mask and tfar varied by trial.
+detail::RayQuery rayAtOneOf(std::mt19937& rng, const detail::SceneContext& ctx,
+                            const std::vector<detail::PrimRef>& refs, float time, int trial) {
+  const detail::PrimRef aim = refs[rng() % refs.size()];
+  const Geometry& g = ctx.geometry(aim.geomID);
+  const Segment& s = g.segments()[aim.primID];
+  const Vec3f p0 = g.vertexAt(time, s.v0), p1 = g.vertexAt(time, s.v1);
+  detail::RayQuery ray = rayNear(rng, p0, p1, 0.03f, 1.0f);
+  ray.time = time;
+  test::varyMaskAndTfar(rng, trial, ray);
+  return ray;
+}
+
 TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
   for (uint32_t steps : {1u, 3u}) {
     Scene scene;
-    scene.setMask(addStrands(scene, 8, steps, 0.0f), 1u);
-    scene.setMask(addStrands(scene, 8, steps, 0.0f), 2u);  // the same segments: ties across geometries
-    scene.setMask(addStrands(scene, 5, steps, 0.1f), 3u);
+    addStrandLeafGeometries(scene, steps);
     BuildOptions o;
     detail::BuildBudget budget;
     const detail::SceneContext ctx(scene, o, budget);
@@ -131,10 +161,8 @@ TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
     const float time = 0.375f;
     int hits = 0;
     for (int trial = 0; trial < 4000; ++trial) {
-      const uint32_t count = 1 + rng() % 13;
-      std::vector<detail::PrimRef> refs;
-      const uint32_t first = rng() % uint32_t(all.size() - count);
-      for (uint32_t i = 0; i < count; ++i) refs.push_back(rng() % 4 == 0 ? all[rng() % all.size()] : all[first + i]);
+      std::vector<detail::PrimRef> refs = drawStrandLeaf(rng, all);
+      const uint32_t count = uint32_t(refs.size());
       std::sort(refs.begin(), refs.end(), [](detail::PrimRef a, detail::PrimRef b) {
         return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
       });
@@ -148,13 +176,7 @@ TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
       const detail::SegmentLeafBlocks blocks(ctx, bvh, time);
       const detail::SegmentLeafBlock* b = blocks.of(0);
       ASSERT_NE(b, nullptr);
-      const detail::PrimRef aim = refs[rng() % count];
-      const Geometry& g = ctx.geometry(aim.geomID);
-      const Segment& s = g.segments()[aim.primID];
-      const Vec3f p0 = g.vertexAt(time, s.v0), p1 = g.vertexAt(time, s.v1);
-      detail::RayQuery ray = rayNear(rng, p0, p1, 0.03f, 1.0f);
-      ray.time = time;
-      test::varyMaskAndTfar(rng, trial, ray);
+      const detail::RayQuery ray = rayAtOneOf(rng, ctx, refs, time, trial);
       const test::OneByOne reference = test::oneByOne(ctx, refs, ray);
       const std::string what = "steps " + std::to_string(steps) + ", trial " + std::to_string(trial);
       detail::RayQuery blocked = ray, anyBlocked = ray;
@@ -180,9 +202,7 @@ TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
 TEST(SegmentBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
   for (uint32_t steps : {1u, 3u}) {
     Scene scene;
-    scene.setMask(addStrands(scene, 8, steps, 0.0f), 1u);
-    scene.setMask(addStrands(scene, 8, steps, 0.0f), 2u);  // the same segments: ties across geometries
-    scene.setMask(addStrands(scene, 5, steps, 0.1f), 3u);
+    addStrandLeafGeometries(scene, steps);
     BuildOptions o;
     detail::BuildBudget budget;
     const detail::SceneContext ctx(scene, o, budget);
@@ -190,21 +210,13 @@ TEST(SegmentBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
     std::mt19937 rng(17);
     int hits = 0, gathered = 0;
     for (int trial = 0; trial < 4000; ++trial) {
-      const uint32_t count = 1 + rng() % 13;
-      std::vector<detail::PrimRef> refs;
-      const uint32_t first = rng() % uint32_t(all.size() - count);
-      for (uint32_t i = 0; i < count; ++i) refs.push_back(rng() % 4 == 0 ? all[rng() % all.size()] : all[first + i]);
+      std::vector<detail::PrimRef> refs = drawStrandLeaf(rng, all);
+      const uint32_t count = uint32_t(refs.size());
       std::stable_sort(refs.begin(), refs.end(),
                        [](detail::PrimRef a, detail::PrimRef b) { return a.geomID < b.geomID; });
       float time = std::uniform_real_distribution<float>(0, 1)(rng);
       if (trial % 5 == 0) time = float(rng() % 3) / 2.0f;  // on a step, at the ends of the shutter
-      const detail::PrimRef aim = refs[rng() % count];
-      const Geometry& g = ctx.geometry(aim.geomID);
-      const Segment& s = g.segments()[aim.primID];
-      const Vec3f p0 = g.vertexAt(time, s.v0), p1 = g.vertexAt(time, s.v1);
-      detail::RayQuery ray = rayNear(rng, p0, p1, 0.03f, 1.0f);
-      ray.time = time;
-      test::varyMaskAndTfar(rng, trial, ray);
+      const detail::RayQuery ray = rayAtOneOf(rng, ctx, refs, time, trial);
       const test::OneByOne reference = test::oneByOne(ctx, refs, ray);
       const std::string what = "steps " + std::to_string(steps) + ", trial " + std::to_string(trial);
       detail::RayQuery viaBlocks = ray, viaRuns = ray, anyBlocks = ray;
