@@ -117,13 +117,27 @@ uint32_t addStrands(Scene& scene, int n, uint32_t steps, float lift) {
   return scene.addSegments(std::move(segs), std::move(pos), std::move(radii));
 }
 
-// The strand geometries of the leaf tests: two copies of 8 strands (masks
-// 1 and 2: ties across geometries) and 5 strands lifted above them (mask 3).
-void addStrandLeafGeometries(Scene& scene, uint32_t steps) {
-  scene.setMask(addStrands(scene, 8, steps, 0.0f), 1u);
-  scene.setMask(addStrands(scene, 8, steps, 0.0f), 2u);
-  scene.setMask(addStrands(scene, 5, steps, 0.1f), 3u);
-}
+// The strand geometries of the leaf tests, of `steps` steps: two copies of
+// 8 strands (masks 1 and 2: ties across geometries) and 5 strands lifted
+// above them (mask 3), with their context and every reference.
+struct StrandLeaves {
+  Scene scene;
+  BuildOptions options;
+  detail::BuildBudget budget;
+  detail::SceneContext ctx;
+  std::vector<detail::PrimRef> all;
+
+  explicit StrandLeaves(uint32_t steps) : scene(withStrands(steps)), ctx(scene, options, budget), all(ctx.primitives()) {}
+
+ private:
+  static Scene withStrands(uint32_t steps) {
+    Scene s;
+    s.setMask(addStrands(s, 8, steps, 0.0f), 1u);
+    s.setMask(addStrands(s, 8, steps, 0.0f), 2u);
+    s.setMask(addStrands(s, 5, steps, 0.1f), 3u);
+    return s;
+  }
+};
 
 // A leaf of 1 to 13 references from `all`, mostly consecutive (one
 // geometry's neighbours), a quarter of them drawn anywhere.
@@ -151,12 +165,9 @@ detail::RayQuery rayAtOneOf(std::mt19937& rng, const detail::SceneContext& ctx,
 
 TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
   for (uint32_t steps : {1u, 3u}) {
-    Scene scene;
-    addStrandLeafGeometries(scene, steps);
-    BuildOptions o;
-    detail::BuildBudget budget;
-    const detail::SceneContext ctx(scene, o, budget);
-    const std::vector<detail::PrimRef> all = ctx.primitives();
+    const StrandLeaves leaves(steps);
+    const detail::SceneContext& ctx = leaves.ctx;
+    const std::vector<detail::PrimRef>& all = leaves.all;
     std::mt19937 rng(13);
     const float time = 0.375f;
     int hits = 0;
@@ -201,12 +212,9 @@ TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
 // the same leaf test without it.
 TEST(SegmentBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
   for (uint32_t steps : {1u, 3u}) {
-    Scene scene;
-    addStrandLeafGeometries(scene, steps);
-    BuildOptions o;
-    detail::BuildBudget budget;
-    const detail::SceneContext ctx(scene, o, budget);
-    const std::vector<detail::PrimRef> all = ctx.primitives();
+    const StrandLeaves leaves(steps);
+    const detail::SceneContext& ctx = leaves.ctx;
+    const std::vector<detail::PrimRef>& all = leaves.all;
     std::mt19937 rng(17);
     int hits = 0, gathered = 0;
     for (int trial = 0; trial < 4000; ++trial) {
