@@ -207,7 +207,10 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
         item = stack[--sp];
         continue;
       }
-      if constexpr (Count) counters->primitiveTests += item.leafSize();
+      if constexpr (Count) {
+        ++counters->leavesVisited;
+        counters->primitiveTests += item.leafSize();
+      }
       if (leaf(item)) {
         if constexpr (AnyHit) return true;
         found = true;

@@ -122,6 +122,7 @@ bool kdWalk(const Tree& tree, RayQuery& ray, TraversalCounters* counters, Leaf&&
       });
       continue;
     }
+    if constexpr (Count) counters->leavesVisited += n.count() != 0;
     if (leaf(n)) {
       if constexpr (AnyHit) return true;
       found = true;
