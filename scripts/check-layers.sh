@@ -12,19 +12,20 @@
 set -euo pipefail
 root="${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
 
-# Lowest layer first: core -> geometry -> scene -> kinds -> accel -> c/scenes/io/render/bench -> tools.
+# Lowest layer first: core -> geometry -> scene -> leaves -> kinds -> accel -> c/scenes/io/render/bench -> tools.
 declare -A ALLOWED=(
   [core]=""
   [geometry]="core"
   [scene]="core geometry"
-  [bvh]="core geometry scene decompose"
-  [msbvh]="core geometry scene bvh"
-  [kd]="core geometry scene"
+  [leaves]="core geometry scene"
+  [bvh]="core geometry scene leaves decompose"
+  [msbvh]="core geometry scene leaves bvh"
+  [kd]="core geometry scene leaves"
   [decompose]="core geometry scene"
-  [fuzzykd]="core geometry scene bvh decompose kd"
+  [fuzzykd]="core geometry scene leaves bvh decompose kd"
   [embree]="core geometry scene"
   [auto]="core geometry scene decompose bvh"
-  [accel]="core geometry scene bvh msbvh kd decompose fuzzykd embree auto"
+  [accel]="core geometry scene leaves bvh msbvh kd decompose fuzzykd embree auto"
   [c]="core scene accel"
   [scenes]="core scene"
   [io]="core scene scenes"

@@ -21,7 +21,8 @@
 //   `embree-robust` (RTC_SCENE_FLAG_ROBUST); with FROZEN=t in the
 //   environment every ray is at time t, `frozen` is built there and
 //   `embree-static` / `embree-static-robust` are Embree's static BVH of the
-//   scene at t. Triangles and matrix instances.
+//   scene at t. Triangles and matrix instances. DUMP=file writes the rays
+//   in `mbrt trace`'s format and exits.
 #include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
 #include <time.h>
@@ -178,6 +179,15 @@ int main(int argc, char** argv) {
   std::optional<float> frozen;  // FROZEN=t: every ray at time t
   if (const char* f = std::getenv("FROZEN")) frozen = float(std::atof(f));
   const std::vector<Ray> rays = bench::incoherentRays(*ps.scene, n, 7, frozen);
+  if (const char* dump = std::getenv("DUMP")) {  // DUMP=file: the rays in `mbrt trace`'s format, and stop
+    std::FILE* f = std::fopen(dump, "wb");
+    for (const Ray& r : rays) {
+      const float v[9] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar, r.time};
+      std::fwrite(v, sizeof v, 1, f);
+    }
+    std::fclose(f);
+    return 0;
+  }
   RTCDevice device = rtcNewDevice(count ? "threads=1" : nullptr);
   std::vector<Row> rows;
   for (size_t p = 0; p <= kinds.size();) {

@@ -274,7 +274,7 @@ TEST(Stbvh, BeatsInterpOnRotation) {
 // of a wide node get the split leaves, so 8-wide nodes are nearly full where
 // they were half empty (hairball: 4.4 lanes per inner node for stbvh, 3.6
 // for bvh-interp before filling). With leaf blocks of four (the motion
-// kinds' default on triangles, leaf_blocks.h) leaves of four or fewer are
+// kinds' default on triangles, leaves/leaf_width.h) leaves of four or fewer are
 // not split, so a node keeps spare lanes only when all its lanes are such
 // leaves. `stbvh` is checked on `hair` (segments: per-reference leaves).
 TEST(Stbvh, WideNodesAreFilled) {
