@@ -300,7 +300,8 @@ typedef struct MBRTAnimationOptions {
 typedef enum MBRTUpdatePolicy {
   MBRT_UPDATE_AUTO = 0,
   MBRT_UPDATE_REFIT = 1,
-  MBRT_UPDATE_REBUILD = 2
+  MBRT_UPDATE_REBUILD = 2,
+  MBRT_UPDATE_POLICY_MAX = 0x7FFFFFFF /* not a policy: keeps every int a value of the type (others are refused) */
 } MBRTUpdatePolicy;
 
 /* What one mbrtUpdateAccel did. */
