@@ -12,7 +12,7 @@
 set -euo pipefail
 root="${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}"
 
-# Lowest layer first: core -> geometry -> scene -> leaves -> kinds -> accel -> c/scenes/io/render/bench -> tools.
+# Lowest layer first: core -> geometry -> scene -> leaves -> kinds -> accel -> scenes/io -> c/render/bench -> tools.
 # An entry is a module (any of its headers) or a path inside one (that
 # header, or the headers under that folder): a kind that uses part of
 # another says exactly which part, so that e.g. auto's one tree of bvh/
@@ -30,9 +30,9 @@ declare -A ALLOWED=(
   [embree]="core geometry scene"
   [auto]="core geometry scene decompose bvh/kinds/cluster_bvh.h"
   [accel]="core geometry scene bvh/kinds msbvh/msbvh.h kd/mbkd.h fuzzykd/fuzzykd.h embree/embree_structure.h auto/auto_kind.h"
-  [c]="core scene accel"
   [scenes]="core scene"
   [io]="core scene scenes"
+  [c]="core scene accel scenes io"
   [render]="core scene accel scenes io"
   [bench]="core scene accel scenes io"
   [tools]="core scene accel scenes io render bench"
@@ -42,10 +42,10 @@ declare -A PUBLIC=(
   [error.h]=core [math.h]=core [quaternion.h]=core [ray.h]=core
   [build_options.h]=core [accel_stats.h]=core [camera.h]=core [splitmix.h]=core
   [scene.h]=scene [scene_bounds.h]=scene
-  [accel.h]=accel
+  [accel.h]=accel [accel_update.h]=accel
   [mbrt.h]=c
   [scenes.h]=scenes
-  [render.h]=render
+  [render.h]=render [frame_renderer.h]=render
   [bench.h]=bench
 )
 PUBLIC_ONLY=" io render bench tools scenes c "
