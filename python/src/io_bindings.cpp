@@ -60,9 +60,7 @@ py::array_t<float> renderScene(const std::shared_ptr<PyScene>& scene, std::share
     std::shared_lock lock(sceneLock());
     std::unique_ptr<Accel> own;
     if (!accel) {
-      BuildOptions o;
-      o.kind = AccelKind::Stbvh;
-      own = Accel::build(scene->scene(), o);
+      own = Accel::build(scene->scene(), BuildOptions{});  // auto, the default everywhere
     } else {
       accel->checkCurrent();
     }
@@ -187,7 +185,7 @@ void bindRender(py::module_& m) {
       R"doc(Renders the scene to an (H, W, 3) float32 linear RGB array (tonemap=True: the
 display transform of `mbrt render`'s PNGs, still linear). integrator: normals,
 ao, path, heat-steps, heat-isects, clusters. accel: an Accel over this scene
-(default: an stbvh built for the call). The camera is the scene's (loaded and
+(default: an `auto` accel built for the call, as everywhere). The camera is the scene's (loaded and
 built-in scenes) or frames the scene; eye/target/up/fov override it.
 Deterministic for a seed whatever the thread count.)doc");
 }

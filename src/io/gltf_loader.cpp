@@ -15,30 +15,31 @@ void ClipSampler::addItem(const Item& it, Scene& scene, LoadReport* report) {
   Motion motion = sharp_ ? Motion::Static : it.motion;
   std::vector<SRTKey> srt;
   if (motion == Motion::Rigid) {
-    // SRT keys need a world matrix without shear at every time looked at.
+    // SRT keys need a world matrix without shear at every time looked at; a
+    // shear anywhere (a parent's non-uniform scale) makes the item deform.
+    bool sheared = false;
     auto keyAt = [&](float u) {
       SRTKey k;
-      if (!decomposeSRT(poseAt(u).world[size_t(it.node)], k)) throw std::runtime_error("shear");
+      if (!decomposeSRT(poseAt(u).world[size_t(it.node)], k)) sheared = true;
       return k;
     };
-    try {
-      Box3f local;
-      std::vector<Vec3f> rest;
-      morph(*it.data, poseAt(0.0f).local[size_t(it.node)].weights, rest);
-      for (const Vec3f& p : rest) local.extend(p);
-      std::vector<Vec3f> corners;
-      for (int c = 0; c < 8; ++c)
-        corners.push_back({c & 1 ? local.upper.x : local.lower.x, c & 2 ? local.upper.y : local.lower.y,
-                           c & 4 ? local.upper.z : local.lower.z});
-      const uint32_t s = chooseSRTSteps(
-          keyAt, [&](float u) { return poseAt(u).world[size_t(it.node)]; }, corners, steps_, tolerance_);
-      for (uint32_t k = 0; k < s; ++k) srt.push_back(keyAt(s == 1 ? 0.0f : float(k) / float(s - 1)));
+    Box3f local;
+    std::vector<Vec3f> rest;
+    morph(*it.data, poseAt(0.0f).local[size_t(it.node)].weights, rest);
+    for (const Vec3f& p : rest) local.extend(p);
+    std::vector<Vec3f> corners;
+    for (int c = 0; c < 8; ++c)
+      corners.push_back({c & 1 ? local.upper.x : local.lower.x, c & 2 ? local.upper.y : local.lower.y,
+                         c & 4 ? local.upper.z : local.lower.z});
+    const uint32_t s = chooseSRTSteps(
+        keyAt, [&](float u) { return poseAt(u).world[size_t(it.node)]; }, corners, steps_, tolerance_);
+    for (uint32_t k = 0; k < s && !sheared; ++k) srt.push_back(keyAt(s == 1 ? 0.0f : float(k) / float(s - 1)));
+    if (sheared) {
+      motion = Motion::Deforming;  // bake the vertices
+    } else {
       auto child = std::make_shared<Scene>();
       child->addTriangleMesh(it.triangles, std::vector<std::vector<Vec3f>>{std::move(rest)});
       scene.addInstance(std::move(child), std::move(srt));
-    } catch (const std::runtime_error& e) {
-      if (dynamic_cast<const Error*>(&e)) throw;
-      motion = Motion::Deforming;  // sheared by a parent's non-uniform scale: bake the vertices
     }
   }
   if (motion != Motion::Rigid) {

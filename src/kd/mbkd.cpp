@@ -162,9 +162,7 @@ class Mbkd final : public TracedStructure<Mbkd<Leaves>>, public Inspect {
   // A reference costs a lane of a streamed 8-wide block test (our leaves,
   // kd_leaf_blocks.h, not the paper's), while a cell step is a dependent
   // load: the build weighs a step as this many reference tests more than
-  // the paper's K_T (measured: 8-64 trade steps for leaf size, 16 is the
-  // fastest on hairball and skinned with the least memory but one;
-  // docs/mbkd.md).
+  // the paper's K_T (the sweep that chose it: docs/mbkd.md).
   static constexpr float kBlockStepWeight = 16.0f;
   KdLeafBlocks blocks_;
   Leaves leaves_;

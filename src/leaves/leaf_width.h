@@ -1,8 +1,9 @@
 // The leaf block a tree's SAH charges (BuildSettings::leafBlock): four when
 // at least 3/4 of the primitives can be tested in blocks of four (the
 // triangles of a mesh without a filter; a static tree's segments), else one
-// (what is tested one by one, larger leaves of it only cost; `hair` per
-// reference: 1.58 -> 11.4 primitive tests per ray). With four, every leaf
+// (what is tested one by one, larger leaves of it only cost: hair leaves
+// charged per block test several times the segments, docs/performance.md).
+// With four, every leaf
 // starts at a multiple of four in the reference table (bvh/build/wide_layout.h),
 // which the block formats find their blocks by.
 #pragma once

@@ -15,8 +15,8 @@
 // geometries alive at its time, and blocks are used only when ray.time is
 // it. The blocks are found from the leaf alone: every leaf starts at a
 // multiple of four in the reference table, so block i holds references
-// [4i, 4i + 4) (a dependent load per leaf less than a map: 23% of the
-// `frozen` traversal's samples on `crowd` sat on one).
+// [4i, 4i + 4), a dependent load per leaf less than a map from leaf to
+// blocks (docs/performance.md, "Leaf blocks for `frozen`").
 #pragma once
 
 #include <algorithm>

@@ -19,7 +19,7 @@ class BvhInterp final : public WideBvhStructure<N, true, MotionBlockLeaves> {
   explicit BvhInterp(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, nullptr, true, triangleLeafBlockWidth(ctx));
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, {.leafBlock = triangleLeafBlockWidth(ctx)});
     Base::layOutLeaves();
   }
 

@@ -63,7 +63,7 @@ class BvhSegments final : public TracedStructure<BvhSegments<N, Leaves>>, public
     const int leafBlock = triangleLeafBlockWidth(ctx);
     tbb::parallel_for(0u, n, [&](uint32_t i) {
       runIsolatedFromCancellation([&] {
-        buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i], nullptr, true, leafBlock);
+        buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i], {.leafBlock = leafBlock});
         leaves_[i] = Leaves(ctx, leafTable(trees_[i]));
       });
     });

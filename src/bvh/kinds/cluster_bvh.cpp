@@ -35,7 +35,7 @@ class ClusterBvh final : public TracedStructure<ClusterBvh<N>> {
   ClusterBvh(const SceneContext& ctx, std::span<const Affine3f> maps, const std::vector<PrimRef>& prims,
              const std::vector<Box3f>& fuzzy)
       : ctx_(ctx), maps_(maps.begin(), maps.end()) {
-    buildWideBvh(ctx, prims, FuzzyRefs(fuzzy), bvh_, nullptr, true, leafBlockWidth(prims.size(), prims.size()));
+    buildWideBvh(ctx, prims, FuzzyRefs(fuzzy), bvh_, {.leafBlock = leafBlockWidth(prims.size(), prims.size())});
     leaves_ = MotionBlockLeaves(ctx, leafTable(bvh_));
   }
 

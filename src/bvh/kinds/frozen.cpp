@@ -57,7 +57,7 @@ class Frozen final : public WideBvhStructure<N, false, Leaves> {
   // Every ray sees the scene at the frozen time.
   explicit Frozen(const SceneContext& ctx) : Base(ctx, ctx.options().frozenTime), time_(ctx.options().frozenTime) {
     const std::vector<PrimRef> prims = ctx.primitives();
-    buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_, nullptr, true, frozenLeafBlock(ctx).width);
+    buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_, {.leafBlock = frozenLeafBlock(ctx).width});
     Base::layOutLeaves();
   }
 

@@ -1,6 +1,7 @@
 #include "bvh/kinds/stbvh.h"
 
 #include "bvh/kinds/bvh_structure.h"
+#include "bvh/kinds/stbvh_tuning.h"
 #include "bvh/sah_cost.h"
 #include "leaves/leaf_width.h"
 #include "leaves/reference_triangles.h"
@@ -20,7 +21,7 @@ class Stbvh final : public WideBvhStructure<N, true, Leaves> {
   explicit Stbvh(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     const SceneTemporalSource timing(ctx);
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing, true, triangleLeafBlockWidth(ctx));
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, stbvhTuning(timing, triangleLeafBlockWidth(ctx)));
     Base::layOutLeaves();
   }
 
