@@ -1,6 +1,6 @@
 // The benchmark engine behind `mbrt bench`: every structure on the same ray
 // sets per scene (primary, secondary, shadow, and the secondary rays at the
-// frozen times), the papers' metrics (DESIGN.md, "How to measure"), hit
+// frozen times), the papers' metrics (docs/design.md, "How we measure"), hit
 // agreement with brute and Embree, Embree in its default, robust and static
 // modes, and the geometric means of the best mbrt kind over each Embree mode.
 // Library mbrt::bench; used by tools/cmd_bench.cpp and the tests.
@@ -39,7 +39,7 @@ class Target {
   // Closest hits / any hits, in parallel in the caller's TBB arena.
   virtual void trace(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
   virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const = 0;
-  // Counted pass (DESIGN.md's traversal steps); false when the structure
+  // Counted pass (docs/design.md's work per ray); false when the structure
   // has no counters (Embree).
   virtual bool traceCounted(std::span<const Ray> rays, std::span<Hit> hits, TraversalCounters& c) const = 0;
   virtual AccelStats stats() const = 0;

@@ -1,4 +1,4 @@
-// The bench's ray sets (DESIGN.md, "How to measure"): primary camera rays at
+// The bench's ray sets (docs/design.md, "How we measure"): primary camera rays at
 // random times; secondary rays (a cosine bounce from every primary hit, and
 // rays from all around the scene into its bounds); shadow rays from the
 // primary hits towards an area light and towards other hit points; and the
