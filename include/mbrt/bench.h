@@ -26,9 +26,13 @@ namespace mbrt::bench {
 // scene into its bounds). Shadow rays go through `occluded`. Frozen is the
 // secondary set built from primaries at the frozen times (each ray sits on
 // one), the set `frozen`, `embree-static` and `embree-static-robust` trace.
-enum class RaySet { Primary, Secondary, Shadow, Frozen };
-constexpr int kRaySets = 4;
-constexpr std::array<RaySet, kRaySets> kAllRaySets{RaySet::Primary, RaySet::Secondary, RaySet::Shadow, RaySet::Frozen};
+// Incoherent rays come from all around the scene at points of its
+// primitives (incoherentRays): nearly all hit, none shares a path with the
+// next, and none depends on a camera (the kernel's cost of a visit).
+enum class RaySet { Primary, Secondary, Shadow, Frozen, Incoherent };
+constexpr int kRaySets = 5;
+constexpr std::array<RaySet, kRaySets> kAllRaySets{RaySet::Primary, RaySet::Secondary, RaySet::Shadow, RaySet::Frozen,
+                                                   RaySet::Incoherent};
 std::string_view toString(RaySet set);
 constexpr bool isOcclusion(RaySet set) { return set == RaySet::Shadow; }
 

@@ -168,6 +168,8 @@ std::string_view toString(RaySet set) {
       return "shadow";
     case RaySet::Frozen:
       return "frozen";
+    case RaySet::Incoherent:
+      return "incoherent";
   }
   return "unknown";
 }
@@ -184,6 +186,7 @@ RaySets makeRaySets(const ProceduralScene& ps, const Target& reference, int widt
   secondaryRays(pts, ps.camera, n, seed ^ 0x5bd1e995u, eps, {}, out, RaySet::Secondary);
   if (secondaryOnly) return out;
   out.sets[size_t(RaySet::Shadow)] = shadowRays(pts, ps.camera, n, seed, eps);
+  out.sets[size_t(RaySet::Incoherent)] = incoherentRays(*ps.scene, n, seed ^ 0x696e636f68ull);
   out.sets[size_t(RaySet::Primary)] = std::move(primary);
 
   std::vector<Ray> frozenPrimary = cameraRays(ps.camera, width, height, seed, &frozenTimes);
