@@ -12,6 +12,7 @@ packages=(
   python3-dev python3-numpy python3-pybind11 pybind11-dev python3-pytest python3-matplotlib
   python3-pip python3-setuptools python3-wheel python3-venv
   git ca-certificates
+  python3-open3d blender  # embree_api/clients: Open3D and Cycles run on the libembree3 shim
 )
 
 missing=()
