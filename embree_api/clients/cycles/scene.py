@@ -30,6 +30,9 @@ import time
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from mapped_library import mapped_embree  # noqa: E402
+
 
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
@@ -191,15 +194,6 @@ def configure(scene, args):
     scene.render.use_persistent_data = False
     scene.frame_start = scene.frame_end = 2
     scene.frame_set(2)
-
-
-def mapped_embree():
-    with open("/proc/self/maps") as maps:
-        for line in maps:
-            path = line.split()[-1]
-            if "libembree3.so" in path:
-                return os.path.realpath(path)
-    return "(none)"
 
 
 def save_pixels(scene, png_path):

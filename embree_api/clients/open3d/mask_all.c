@@ -39,35 +39,37 @@ static void* next_symbol(const char* name) {
   return fn;
 }
 
+/* next_symbol(name), looked up once and kept in *slot (thread-safe). */
+static void* cached_next(void** slot, const char* name) {
+  void* fn = __atomic_load_n(slot, __ATOMIC_ACQUIRE);
+  if (fn == NULL) {
+    fn = next_symbol(name);
+    __atomic_store_n(slot, fn, __ATOMIC_RELEASE);
+  }
+  return fn;
+}
+
 void rtcIntersect1M(RTCScene scene, struct RTCIntersectContext* context,
                     struct RTCRayHit* rayhits, unsigned int count,
                     size_t byte_stride) {
-  static Intersect1MFn cached = NULL; /* filled on the first call */
-  Intersect1MFn next = __atomic_load_n(&cached, __ATOMIC_ACQUIRE);
-  if (next == NULL) {
-    next = (Intersect1MFn)next_symbol("rtcIntersect1M");
-    __atomic_store_n(&cached, next, __ATOMIC_RELEASE);
-  }
+  static void* next = NULL;
   for (unsigned int i = 0; i < count; ++i) {
     struct RTCRayHit* rh =
         (struct RTCRayHit*)((char*)rayhits + (size_t)i * byte_stride);
     rh->ray.mask = 0xFFFFFFFFu;
   }
-  next(scene, context, rayhits, count, byte_stride);
+  ((Intersect1MFn)cached_next(&next, "rtcIntersect1M"))(scene, context, rayhits,
+                                                        count, byte_stride);
 }
 
 void rtcOccluded1M(RTCScene scene, struct RTCIntersectContext* context,
                    struct RTCRay* rays, unsigned int count,
                    size_t byte_stride) {
-  static Occluded1MFn cached = NULL; /* filled on the first call */
-  Occluded1MFn next = __atomic_load_n(&cached, __ATOMIC_ACQUIRE);
-  if (next == NULL) {
-    next = (Occluded1MFn)next_symbol("rtcOccluded1M");
-    __atomic_store_n(&cached, next, __ATOMIC_RELEASE);
-  }
+  static void* next = NULL;
   for (unsigned int i = 0; i < count; ++i) {
     struct RTCRay* r = (struct RTCRay*)((char*)rays + (size_t)i * byte_stride);
     r->mask = 0xFFFFFFFFu;
   }
-  next(scene, context, rays, count, byte_stride);
+  ((Occluded1MFn)cached_next(&next, "rtcOccluded1M"))(scene, context, rays,
+                                                      count, byte_stride);
 }

@@ -22,18 +22,11 @@ import time
 import numpy as np
 import open3d as o3d
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from mapped_library import mapped_embree  # noqa: E402
+
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
 BUNNY = os.path.join(REPO, "..", "shared", "scenes", "stanford_bunny", "bun_zipper.ply")
-
-
-def mapped_embree():
-    """The libembree3 file this process has mapped (after importing open3d)."""
-    with open("/proc/self/maps") as maps:
-        for line in maps:
-            path = line.split()[-1]
-            if "libembree3.so" in path:
-                return os.path.realpath(path)
-    return ""
 
 
 def load_meshes():
