@@ -1,0 +1,1 @@
+# The Embree API's tests (filled below).
