@@ -12,6 +12,7 @@
 #include "errors.h"
 #include "mesh_read.h"
 #include "scene.h"
+#include "scene_dump.h"
 
 namespace mbrt::embree_api {
 
@@ -102,6 +103,7 @@ void Scene::commit(const char* function) {
   for (uint32_t id = 0; id < geometries_.size(); ++id)
     if (geometries_[id]) committedStates_[id] = stateOf(*geometries_[id]);
   tableChanged_ = false;
+  if (!dumpIfAsked(*current_->snapshot)) errors.push_back("could not write the scene to MBRT_EMBREE_DUMP");
   for (const std::string& e : errors) report(&d, RTC_ERROR_INVALID_OPERATION, std::string(function) + ": " + e);
   if (progress) progress(progressUserPtr, 1.0);
 }

@@ -34,7 +34,7 @@ int integerValue(std::string_view token, std::string_view value) {
   char* end = nullptr;
   const long n = std::strtol(v.c_str(), &end, 10);
   if (v.empty() || *end != '\0' || n < 0 || n > 1 << 20)
-    fail(RTC_ERROR_INVALID_ARGUMENT, "config token '" + std::string(token) + "' needs a non-negative integer");
+    fail(RTC_ERROR_UNKNOWN, "config token '" + std::string(token) + "' needs a non-negative integer");  // Embree's code
   return int(n);
 }
 

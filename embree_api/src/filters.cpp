@@ -2,7 +2,9 @@
 #include "filters.h"
 
 #include <bit>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "geometry.h"
 
@@ -48,10 +50,21 @@ bool runFilters(const FilterBinding& b, const FilterArgs& a) {
   if (!own && !shared) return true;
 
   const unsigned N = call->N, lane = call->lane;
-  alignas(64) int valid[16] = {};
-  valid[lane] = -1;
+  // valid[] and the hit packet of N lanes (on the stack up to 16).
+  alignas(64) int validStorage[16];
   alignas(64) RTCHit16 hitStorage;
+  thread_local std::vector<int> validHeap;
+  thread_local std::vector<float> hitHeap;
+  int* valid = validStorage;
   RTCHitN* hit = reinterpret_cast<RTCHitN*>(&hitStorage);
+  if (N > 16) {
+    validHeap.assign(N, 0);
+    hitHeap.assign(size_t(N) * sizeof(RTCHit) / sizeof(float), 0.0f);
+    valid = validHeap.data();
+    hit = reinterpret_cast<RTCHitN*>(hitHeap.data());
+  }
+  std::fill(valid, valid + N, 0);
+  valid[lane] = -1;
   bool secondHalf;
   const uint32_t prim = b.prims.embreePrim(a.candidate.primID, secondHalf);
   const Vec3f ng = objectNormal(*b.mesh, a.candidate.primID, call->time);

@@ -162,7 +162,7 @@ RTC_API void rtcSetGeometryBuildQuality(RTCGeometry geometry, RTCBuildQuality qu
     Geometry& g = geometryOf(geometry);
     if (quality != RTC_BUILD_QUALITY_LOW && quality != RTC_BUILD_QUALITY_MEDIUM && quality != RTC_BUILD_QUALITY_HIGH &&
         quality != RTC_BUILD_QUALITY_REFIT)
-      fail(RTC_ERROR_INVALID_ARGUMENT, "invalid build quality");
+      fail(RTC_ERROR_UNKNOWN, "invalid build quality");  // Embree's code
     g.buildQuality = quality;  // mbrt's kind decides how it builds
   });
 }

@@ -26,12 +26,12 @@ size_t formatBytes(RTCFormat f) {
 
 void checkLayout(const BufferView& v) {
   if (v.count > 0xFFFFFFFFu) fail(RTC_ERROR_INVALID_ARGUMENT, "buffer too large");
-  if (v.stride % 4 != 0) fail(RTC_ERROR_INVALID_OPERATION, "byte stride must be a multiple of 4");
+  if (v.stride % 4 != 0) fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned (the byte stride too)");
   if (v.count > 1 && v.stride < formatBytes(v.format))
     fail(RTC_ERROR_INVALID_ARGUMENT, "byte stride " + std::to_string(v.stride) + " is smaller than an item of " +
                                          std::to_string(formatBytes(v.format)) + " bytes");
   if (v.count > 0 && reinterpret_cast<uintptr_t>(v.data()) % 4 != 0)
-    fail(RTC_ERROR_INVALID_ARGUMENT, "data must be 4 bytes aligned");
+    fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned");
 }
 
 // Where (type, slot) goes in g; fails as Embree does for a wrong type,
@@ -52,7 +52,7 @@ BufferView& slotFor(Geometry& g, RTCBufferType type, unsigned slot, RTCFormat fo
     case RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE:
       if (checkFormat && !(format >= RTC_FORMAT_FLOAT && format <= RTC_FORMAT_FLOAT16))
         fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex attribute buffer format");
-      if (slot >= g.attributes.size()) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid vertex attribute buffer slot");
+      if (slot >= g.attributes.size()) fail(RTC_ERROR_INVALID_OPERATION, "invalid vertex attribute buffer slot");
       return g.attributes[slot];
     default:
       fail(RTC_ERROR_INVALID_ARGUMENT, "unknown buffer type");

@@ -29,7 +29,7 @@ uint32_t Scene::attach(Geometry& g) {
 
 void Scene::attachAt(Geometry& g, uint32_t id) {
   if (id == RTC_INVALID_GEOMETRY_ID) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: geomID");
-  if (id < geometries_.size() && geometries_[id]) fail(RTC_ERROR_INVALID_ARGUMENT, "geometry ID already taken");
+  if (id < geometries_.size() && geometries_[id]) fail(RTC_ERROR_INVALID_OPERATION, "invalid geometry ID provided: it is taken");
   if (id >= geometries_.size()) {
     for (uint32_t i = uint32_t(geometries_.size()); i < id; ++i) freeIds_.insert(i);
     geometries_.resize(size_t(id) + 1);
@@ -40,7 +40,7 @@ void Scene::attachAt(Geometry& g, uint32_t id) {
 }
 
 void Scene::detach(uint32_t id) {
-  if (!geometry(id)) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid geometry ID " + std::to_string(id));
+  if (!geometry(id)) fail(RTC_ERROR_INVALID_OPERATION, "invalid geometry ID " + std::to_string(id));
   geometries_[id] = Ref<Geometry>();
   freeIds_.insert(id);
   tableChanged_ = true;

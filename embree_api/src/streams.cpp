@@ -1,5 +1,5 @@
 // Ray streams: M rays of a stride (1M), M pointers (1Mp), M packets of N
-// (NM) and N rays in pointer-SOA layout (Np). Each ray goes through the
+// (NM, any N, as Embree) and N rays in pointer-SOA layout (Np). Each ray goes through the
 // one-ray path in the caller's memory (trace.h); an Np ray is gathered
 // into an RTCRayHit, traced and scattered back.
 #include "errors.h"
@@ -10,8 +10,7 @@ using namespace mbrt::embree_api;
 namespace {
 
 void checkN(unsigned N) {
-  if (N != 1 && N != 4 && N != 8 && N != 16)
-    fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: packet size N must be 1, 4, 8 or 16");
+  if (N == 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: packet size N is 0");
 }
 
 RTCRayHit gather(const RTCRayHitNp& s, unsigned i) {
