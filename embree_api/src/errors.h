@@ -45,8 +45,10 @@ void reportCurrentException(const char* function, const void* handle);
 
 // Runs an API function's body; on an exception, reports it on the device
 // of `handle` (see report) as `function: message` and returns onError.
+// An exception the error callback throws reaches the caller, as with
+// Embree (embree_verify's callback throws).
 template <class R, class Body>
-R guarded(const char* function, const void* handle, R onError, Body&& body) noexcept {
+R guarded(const char* function, const void* handle, R onError, Body&& body) {
   try {
     return body();
   } catch (...) {
@@ -56,7 +58,7 @@ R guarded(const char* function, const void* handle, R onError, Body&& body) noex
 }
 
 template <class Body>
-void guarded(const char* function, const void* handle, Body&& body) noexcept {
+void guarded(const char* function, const void* handle, Body&& body) {
   try {
     body();
   } catch (...) {

@@ -50,7 +50,7 @@ Geometry::~Geometry() = default;
 
 void Geometry::setTimeStepCount(uint32_t steps) {
   timeSteps_ = steps;
-  if (isMesh())
+  if (!isInstance())
     vertices.resize(steps);
   else
     keys.resize(steps);
@@ -68,17 +68,31 @@ Geometry& geometryOf(RTCGeometry g) { return require<Geometry>(g, "RTCGeometry")
 }  // namespace
 
 RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType type) {
-  return guarded("rtcNewGeometry", device, RTCGeometry(nullptr), [&] {
+  const char* unsupported = nullptr;
+  RTCGeometry made = guarded("rtcNewGeometry", device, RTCGeometry(nullptr), [&] {
     Device& d = require<Device>(device, "RTCDevice");
     if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD && type != RTC_GEOMETRY_TYPE_INSTANCE) {
-      // As Embree reports a geometry type compiled out of it.
-      const char* name = typeName(type);
-      if (!name) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
-      fail(RTC_ERROR_UNKNOWN, std::string(name) +
-                                  " is not supported (mbrt's Embree API has triangle, quad and instance geometries)");
+      unsupported = typeName(type);
+      if (!unsupported) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
     }
     return reinterpret_cast<RTCGeometry>(new Geometry(&d, type));
   });
+  if (unsupported) {
+    // Reported as Embree reports a geometry type compiled out of it; a
+    // program that goes on regardless gets an inert placeholder, not a null
+    // handle to crash on (Geometry::isPlaceholder). Reported outside
+    // `guarded`, so that an error callback that throws is called once.
+    try {
+      report(objectOf<Device>(device), RTC_ERROR_UNKNOWN,
+             "rtcNewGeometry: " + std::string(unsupported) +
+                 " is not supported (mbrt's Embree API has triangle, quad and instance geometries; this one is "
+                 "left out of every scene)");
+    } catch (...) {
+      rtcReleaseGeometry(made);
+      throw;
+    }
+  }
+  return made;
 }
 
 RTC_API void rtcRetainGeometry(RTCGeometry geometry) {
@@ -144,7 +158,7 @@ RTC_API void rtcSetGeometryTimeRange(RTCGeometry geometry, float startTime, floa
 RTC_API void rtcSetGeometryVertexAttributeCount(RTCGeometry geometry, unsigned int count) {
   guarded("rtcSetGeometryVertexAttributeCount", geometry, [&] {
     Geometry& g = geometryOf(geometry);
-    if (!g.isMesh()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
+    if (g.isInstance()) fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
     g.attributes.resize(count);
   });
 }

@@ -1,7 +1,8 @@
 // RTCGeometry: triangle meshes, quad meshes and instances, as the caller
 // describes them (buffers, time steps and range, mask, user data, filter
 // functions, instance keys). A scene commit reads them into mbrt's scene
-// model (snapshot.h). Other geometry types are refused by rtcNewGeometry.
+// model (snapshot.h). Other geometry types are refused by rtcNewGeometry
+// (with an inert placeholder handed out, see isPlaceholder).
 #pragma once
 
 #include <cstdint>
@@ -32,6 +33,20 @@ class Geometry final : public Object {
   RTCGeometryType type() const { return type_; }
   bool isMesh() const { return type_ == RTC_GEOMETRY_TYPE_TRIANGLE || type_ == RTC_GEOMETRY_TYPE_QUAD; }
   bool isInstance() const { return type_ == RTC_GEOMETRY_TYPE_INSTANCE; }
+  // A geometry of a type mbrt does not have (user, subdivision, curves,
+  // points, grids): rtcNewGeometry reported the error and handed out this
+  // inert stand-in, so that a program going on regardless does not crash;
+  // its setters do nothing, its new buffers are scratch memory, and scene
+  // commits leave it out.
+  bool isPlaceholder() const { return !isMesh() && !isInstance(); }
+  // Scratch memory given out for a placeholder's buffers, by type and slot
+  // (rtcGetGeometryBufferData hands the latest one back).
+  struct Scratch {
+    RTCBufferType type;
+    unsigned slot;
+    Ref<Buffer> buffer;
+  };
+  std::vector<Scratch> scratch;
   // Index items per primitive: 3 (triangles) or 4 (quads).
   unsigned corners() const { return type_ == RTC_GEOMETRY_TYPE_QUAD ? 4 : 3; }
 

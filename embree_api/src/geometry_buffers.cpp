@@ -27,9 +27,10 @@ size_t formatBytes(RTCFormat f) {
 void checkLayout(const BufferView& v) {
   if (v.count > 0xFFFFFFFFu) fail(RTC_ERROR_INVALID_ARGUMENT, "buffer too large");
   if (v.stride % 4 != 0) fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned (the byte stride too)");
-  if (v.count > 1 && v.stride < formatBytes(v.format))
-    fail(RTC_ERROR_INVALID_ARGUMENT, "byte stride " + std::to_string(v.stride) + " is smaller than an item of " +
-                                         std::to_string(formatBytes(v.format)) + " bytes");
+  // Embree lets items overlap; mbrt's vertex buffers need 12 bytes each.
+  if (v.format == RTC_FORMAT_FLOAT3 && v.count > 1 && v.stride < 12)
+    fail(RTC_ERROR_INVALID_ARGUMENT, "byte stride " + std::to_string(v.stride) +
+                                         " of a vertex buffer is smaller than a vertex (12 bytes)");
   if (v.count > 0 && reinterpret_cast<uintptr_t>(v.data()) % 4 != 0)
     fail(RTC_ERROR_INVALID_OPERATION, "data must be 4 bytes aligned");
 }
@@ -76,6 +77,7 @@ RTC_API void rtcSetGeometryBuffer(RTCGeometry geometry, RTCBufferType type, unsi
   guarded("rtcSetGeometryBuffer", geometry, [&] {
     Geometry& g = require<Geometry>(geometry, "RTCGeometry");
     Buffer& b = require<Buffer>(buffer, "RTCBuffer");
+    if (g.isPlaceholder()) return;
     if (b.device() != g.device()) fail(RTC_ERROR_INVALID_ARGUMENT, "inputs are from different devices");
     if (itemCount > 0 && byteOffset + (itemCount - 1) * byteStride + formatBytes(format) > b.size())
       fail(RTC_ERROR_INVALID_ARGUMENT, "buffer range out of bounds");
@@ -89,6 +91,7 @@ RTC_API void rtcSetSharedGeometryBuffer(RTCGeometry geometry, RTCBufferType type
   guarded("rtcSetSharedGeometryBuffer", geometry, [&] {
     Geometry& g = require<Geometry>(geometry, "RTCGeometry");
     if (!ptr && itemCount > 0) fail(RTC_ERROR_INVALID_ARGUMENT, "invalid argument: null buffer memory");
+    if (g.isPlaceholder()) return;
     slotFor(g, type, slot, format, true);  // the type, slot and format are checked before any allocation
     auto b = Ref<Buffer>::adopt(
         new Buffer(g.device(), static_cast<char*>(const_cast<void*>(ptr)) + byteOffset, itemCount * byteStride));
@@ -100,8 +103,12 @@ RTC_API void* rtcSetNewGeometryBuffer(RTCGeometry geometry, RTCBufferType type, 
                                       size_t byteStride, size_t itemCount) {
   return guarded("rtcSetNewGeometryBuffer", geometry, static_cast<void*>(nullptr), [&] {
     Geometry& g = require<Geometry>(geometry, "RTCGeometry");
-    slotFor(g, type, slot, format, true);
     if (itemCount > 0xFFFFFFFFu) fail(RTC_ERROR_INVALID_ARGUMENT, "buffer too large");
+    if (g.isPlaceholder()) {  // scratch memory the program may fill
+      g.scratch.push_back({type, slot, Ref<Buffer>::adopt(new Buffer(g.device(), itemCount * byteStride))});
+      return static_cast<void*>(g.scratch.back().buffer->data());
+    }
+    slotFor(g, type, slot, format, true);
     auto b = Ref<Buffer>::adopt(new Buffer(g.device(), itemCount * byteStride));
     setBuffer(g, type, slot, BufferView{b, 0, byteStride, itemCount, format});
     return static_cast<void*>(b->data());
@@ -111,6 +118,11 @@ RTC_API void* rtcSetNewGeometryBuffer(RTCGeometry geometry, RTCBufferType type, 
 RTC_API void* rtcGetGeometryBufferData(RTCGeometry geometry, RTCBufferType type, unsigned int slot) {
   return guarded("rtcGetGeometryBufferData", geometry, static_cast<void*>(nullptr), [&] {
     Geometry& g = require<Geometry>(geometry, "RTCGeometry");
+    if (g.isPlaceholder()) {  // the scratch memory given out for (type, slot), if any
+      for (auto it = g.scratch.rbegin(); it != g.scratch.rend(); ++it)
+        if (it->type == type && it->slot == slot) return static_cast<void*>(it->buffer->data());
+      return static_cast<void*>(nullptr);
+    }
     return static_cast<void*>(const_cast<char*>(slotFor(g, type, slot, RTC_FORMAT_UNDEFINED, false).data()));
   });
 }
@@ -118,6 +130,7 @@ RTC_API void* rtcGetGeometryBufferData(RTCGeometry geometry, RTCBufferType type,
 RTC_API void rtcUpdateGeometryBuffer(RTCGeometry geometry, RTCBufferType type, unsigned int slot) {
   guarded("rtcUpdateGeometryBuffer", geometry, [&] {
     Geometry& g = require<Geometry>(geometry, "RTCGeometry");
+    if (g.isPlaceholder()) return;
     slotFor(g, type, slot, RTC_FORMAT_UNDEFINED, false);
     if (type == RTC_BUFFER_TYPE_INDEX)
       g.changedTopology();

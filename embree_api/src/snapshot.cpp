@@ -23,7 +23,7 @@ class SnapshotBuilder {
     const auto& table = scene_.geometries();
     for (uint32_t id = 0; id < table.size(); ++id) {
       Geometry* g = table[id].get();
-      if (!g || !g->enabled) continue;
+      if (!g || !g->enabled || g->isPlaceholder()) continue;  // placeholders: reported at rtcNewGeometry
       if (g->isMesh())
         addMesh(id, *g);
       else

@@ -16,9 +16,10 @@ using namespace mbrt::embree_api;
 namespace {
 
 // A setter of a geometry type this library does not have.
+// A placeholder (of the type it belongs to) takes it silently.
 void notForThisGeometry(const char* function, RTCGeometry geometry) {
   guarded(function, geometry, [&] {
-    require<Geometry>(geometry, "RTCGeometry");
+    if (require<Geometry>(geometry, "RTCGeometry").isPlaceholder()) return;
     fail(RTC_ERROR_INVALID_OPERATION, "operation not supported for this geometry");
   });
 }
@@ -39,7 +40,7 @@ void notSupported(const char* function, const void* handle, const char* feature)
 
 RTC_API void rtcSetGeometryUserPrimitiveCount(RTCGeometry geometry, unsigned int) {
   guarded("rtcSetGeometryUserPrimitiveCount", geometry, [&] {
-    require<Geometry>(geometry, "RTCGeometry");
+    if (require<Geometry>(geometry, "RTCGeometry").isPlaceholder()) return;
     fail(RTC_ERROR_INVALID_OPERATION, "operation only allowed for user geometries");
   });
 }

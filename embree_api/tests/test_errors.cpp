@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 #include "api.h"  // mbrt's build, renamed: rtcX is mbrtEmbree_rtcX here
@@ -81,18 +82,45 @@ RTCRayHit rayAt(float x, float y) {
 
 TEST(EmbreeApiErrors, UnsupportedGeometryTypes) {
   Checked c;
+  RTCScene s = triangleScene(c.device);
   for (RTCGeometryType t : {RTC_GEOMETRY_TYPE_SUBDIVISION, RTC_GEOMETRY_TYPE_USER, RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE,
                             RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE, RTC_GEOMETRY_TYPE_SPHERE_POINT, RTC_GEOMETRY_TYPE_GRID}) {
-    EXPECT_EQ(rtcNewGeometry(c.device, t), nullptr);
+    RTCGeometry g = rtcNewGeometry(c.device, t);
     EXPECT_EQ(c.take(), RTC_ERROR_UNKNOWN);  // as Embree reports a type compiled out of it
     EXPECT_EQ(c.message.rfind("rtcNewGeometry: RTC_GEOMETRY_TYPE_", 0), 0u) << c.message;
     EXPECT_NE(c.message.find("is not supported"), std::string::npos) << c.message;
+    // The placeholder handed out: a program that goes on does not crash,
+    // and nothing more is reported.
+    ASSERT_NE(g, nullptr);
+    rtcSetGeometryTimeStepCount(g, 2);
+    auto* scratch = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 1, RTC_FORMAT_FLOAT4, 16, 64));
+    ASSERT_NE(scratch, nullptr);
+    scratch[4 * 64 - 1] = 1.0f;
+    EXPECT_EQ(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 1), scratch);  // a refit finds it again
+    EXPECT_EQ(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 0), nullptr);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, scratch, 0, 4, 10);
+    rtcSetGeometryUserPrimitiveCount(g, 3);
+    rtcSetGeometryTessellationRate(g, 4.0f);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(s, g);
+    rtcReleaseGeometry(g);
+    EXPECT_EQ(c.take(), RTC_ERROR_NONE) << c.message;
   }
-  // The geometry that was not made: every later call says so, nothing crashes.
-  rtcSetGeometryUserPrimitiveCount(nullptr, 3);
-  EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT);
+  rtcCommitScene(s);  // the placeholders are left out, the triangles traced
+  EXPECT_EQ(c.take(), RTC_ERROR_NONE) << c.message;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh = rayAt(0.2f, 0.2f);
+  rtcIntersect1(s, &ctx, &rh);
+  EXPECT_EQ(rh.hit.geomID, 0u);
   EXPECT_EQ(rtcGetDeviceProperty(c.device, RTC_DEVICE_PROPERTY_USER_GEOMETRY_SUPPORTED), 0);
   EXPECT_EQ(rtcGetDeviceProperty(c.device, RTC_DEVICE_PROPERTY_TRIANGLE_GEOMETRY_SUPPORTED), 1);
+  // A type Embree does not know: NULL, as Embree returns.
+  EXPECT_EQ(rtcNewGeometry(c.device, RTCGeometryType(77)), nullptr);
+  EXPECT_EQ(c.take(), RTC_ERROR_UNKNOWN);
+  rtcSetGeometryUserPrimitiveCount(nullptr, 3);
+  EXPECT_EQ(rtcGetDeviceError(nullptr), RTC_ERROR_INVALID_ARGUMENT);
+  rtcReleaseScene(s);
 }
 
 TEST(EmbreeApiErrors, UnsupportedFunctionsNameThemselves) {
@@ -196,6 +224,29 @@ TEST(EmbreeApiErrors, WhereEmbreeWouldCrashOrAssert) {
   EXPECT_NE(c.message.find("not a RTCGeometry"), std::string::npos) << c.message;
   rtcReleaseGeometry(g);
   for (RTCScene x : {flat, top, middle, s}) rtcReleaseScene(x);
+}
+
+// embree_verify's error callback throws a C++ exception: it reaches the
+// caller of the failing function, as with Embree, and the code stays.
+TEST(EmbreeApiErrors, AnErrorCallbackMayThrow) {
+  RTCDevice d = rtcNewDevice(nullptr);
+  int calls = 0;
+  rtcSetDeviceErrorFunction(
+      d,
+      [](void* calls, RTCError, const char* message) {
+        ++*static_cast<int*>(calls);
+        throw std::runtime_error(message);
+      },
+      &calls);
+  RTCGeometry g = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_TRIANGLE);
+  EXPECT_THROW(rtcSetGeometryTimeStepCount(g, RTC_MAX_TIME_STEP_COUNT + 1), std::runtime_error);
+  EXPECT_EQ(rtcGetDeviceError(d), RTC_ERROR_INVALID_ARGUMENT);
+  EXPECT_THROW(rtcNewGeometry(d, RTC_GEOMETRY_TYPE_USER), std::runtime_error);
+  EXPECT_EQ(rtcGetDeviceError(d), RTC_ERROR_UNKNOWN);
+  EXPECT_EQ(calls, 2);  // once per failing call
+  rtcReleaseGeometry(g);
+  EXPECT_EQ(rtcGetDeviceError(d), RTC_ERROR_NONE);
+  rtcReleaseDevice(d);
 }
 
 TEST(EmbreeApiErrors, EmptySceneMissesEverything) {
