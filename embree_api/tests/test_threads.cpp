@@ -1,7 +1,8 @@
 // Thread safety as Embree promises it: any number of threads trace one
 // committed scene at once (rtcIntersect1, rtcOccluded1, packets, streams),
-// with a filter function running on the tracing threads, and every answer
-// equals one thread's. Linked against the shared libembree3.so.3 itself;
+// with a filter function running on the tracing threads that looks the hit
+// geometry and its user data up as Cycles' filters do (rtcGetGeometry,
+// rtcGetGeometryUserData), and every answer equals one thread's. Linked against the shared libembree3.so.3 itself;
 // run under ThreadSanitizer by scripts/test-tsan.sh.
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
@@ -16,11 +17,19 @@ namespace {
 
 constexpr int kThreads = 8;
 std::atomic<uint64_t> gFilterCalls{0};
+std::atomic<uint64_t> gLookupMisses{0};
+RTCScene gScene = nullptr;  // set before tracing starts
+int gFilteredTag = 0;       // the filtered mesh's user data points here
 
 void oddPrimitivesOnly(const RTCFilterFunctionNArguments* a) {
   gFilterCalls.fetch_add(1, std::memory_order_relaxed);
-  for (unsigned i = 0; i < a->N; ++i)
-    if (a->valid[i] && RTCHitN_primID(a->hit, a->N, i) % 2 == 0) a->valid[i] = 0;
+  for (unsigned i = 0; i < a->N; ++i) {
+    if (!a->valid[i]) continue;
+    RTCGeometry g = rtcGetGeometry(gScene, RTCHitN_geomID(a->hit, a->N, i));
+    if (a->geometryUserPtr != &gFilteredTag || rtcGetGeometryUserData(g) != &gFilteredTag)
+      gLookupMisses.fetch_add(1, std::memory_order_relaxed);
+    if (RTCHitN_primID(a->hit, a->N, i) % 2 == 0) a->valid[i] = 0;
+  }
 }
 
 RTCGeometry randomMesh(RTCDevice d, std::mt19937& rng, bool quads, unsigned prims, unsigned steps) {
@@ -66,7 +75,10 @@ TEST(EmbreeApiThreads, ConcurrentTracingOfOneScene) {
   RTCScene s = rtcNewScene(d);
   for (int k = 0; k < 3; ++k) {
     RTCGeometry g = randomMesh(d, rng, k == 1, 80, k + 1);
-    if (k == 2) rtcSetGeometryIntersectFilterFunction(g, oddPrimitivesOnly);
+    if (k == 2) {
+      rtcSetGeometryIntersectFilterFunction(g, oddPrimitivesOnly);
+      rtcSetGeometryUserData(g, &gFilteredTag);
+    }
     rtcCommitGeometry(g);
     rtcAttachGeometry(s, g);
     rtcReleaseGeometry(g);
@@ -82,6 +94,7 @@ TEST(EmbreeApiThreads, ConcurrentTracingOfOneScene) {
   rtcReleaseGeometry(inst);
   rtcCommitScene(s);
   ASSERT_EQ(rtcGetDeviceError(d), RTC_ERROR_NONE);
+  gScene = s;
 
   std::uniform_real_distribution<float> u(-1.0f, 1.0f), t01(0.0f, 1.0f);
   std::vector<RTCRayHit> rays(1600);
@@ -139,6 +152,7 @@ TEST(EmbreeApiThreads, ConcurrentTracingOfOneScene) {
   for (auto& th : threads) th.join();
   for (int t = 0; t < kThreads; ++t) EXPECT_TRUE(answers[t] == reference) << "thread " << t;
   EXPECT_GT(gFilterCalls.load(), callsBefore);
+  EXPECT_EQ(gLookupMisses.load(), 0u);
   EXPECT_EQ(rtcGetDeviceError(d), RTC_ERROR_NONE);
   rtcReleaseScene(s);
   rtcReleaseScene(child);
