@@ -35,3 +35,19 @@ add_test(NAME embree_api.tutorials
          COMMAND bash ${PROJECT_SOURCE_DIR}/embree_api/clients/tutorials.sh ${PROJECT_BINARY_DIR}
                  ${PROJECT_BINARY_DIR}/embree_tutorials)
 set_tests_properties(embree_api.tutorials PROPERTIES SKIP_RETURN_CODE 77 COST 200)
+
+# The tests of Embree's own embree_verify that cover what the library
+# implements (clients/verify.sh; skipped without Debian's embree-tools).
+add_test(NAME embree_api.verify COMMAND bash ${PROJECT_SOURCE_DIR}/embree_api/clients/verify.sh ${PROJECT_BINARY_DIR})
+set_tests_properties(embree_api.verify PROPERTIES SKIP_RETURN_CODE 77 COST 300)
+
+# Real clients through their drivers (clients/README.md): Open3D's
+# RaycastingScene and Blender's Cycles, each with Debian's libembree3 and
+# with this one, compared (skipped without python3-open3d / blender).
+add_test(NAME embree_api.open3d
+         COMMAND bash ${PROJECT_SOURCE_DIR}/embree_api/clients/open3d/run.sh ${PROJECT_BINARY_DIR}/embree_api)
+add_test(NAME embree_api.cycles
+         COMMAND bash ${PROJECT_SOURCE_DIR}/embree_api/clients/cycles/run.sh ${PROJECT_BINARY_DIR}/embree_api
+                 ${PROJECT_BINARY_DIR}/embree_cycles)
+set_tests_properties(embree_api.open3d PROPERTIES SKIP_RETURN_CODE 77 COST 100)
+set_tests_properties(embree_api.cycles PROPERTIES SKIP_RETURN_CODE 77 COST 1000)

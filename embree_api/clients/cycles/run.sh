@@ -12,7 +12,8 @@
 # /proc/self/maps inside Blender). Embree errors Cycles logged (through the
 # device error callback, shown with --debug-cycles --verbose 1) are printed.
 # OUT_DIR keeps the pictures and logs (default: a temporary folder).
-# Exits 1 on a crash, a wrong library, or pictures beyond noise.
+# Exits 1 on a crash, a wrong library, or pictures beyond noise; 77
+# (skipped) without blender.
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -27,8 +28,8 @@ if [ ! -e "$shim_lib" ]; then
   exit 2
 fi
 if ! command -v blender >/dev/null; then
-  echo "cycles: blender is not installed (scripts/install-deps.sh installs it)" >&2
-  exit 2
+  echo "cycles: blender is not installed (scripts/install-deps.sh installs it): skipped"
+  exit 77
 fi
 if [ $# -ge 2 ]; then
   out="$(realpath "$2")"
