@@ -7,7 +7,9 @@
 #
 # Renders, interleaved so that drifting machine load hits both sides alike:
 # Embree and shim with seeds 1, 2, 3, then Embree seed 1 without motion blur
-# (proof that the scene exercises motion blur). Every render must exit 0,
+# (proof that the scene exercises motion blur); then hair.py through the
+# shim, which has no curves: Cycles must log the shim's Embree error and
+# finish the render without the hair. Every render must exit 0,
 # and the shim's renders must have mapped SHIM_DIR's file (scene.py reads
 # /proc/self/maps inside Blender). Embree errors Cycles logged (through the
 # device error callback, shown with --debug-cycles --verbose 1) are printed.
@@ -80,6 +82,23 @@ for seed in 1 2 3; do
   render "shim_$seed" "$seed" || status=1
 done
 render embree_static 1 --no-motion-blur || status=1
+
+# A call the shim does not have: hair (hair.py). Cycles must log the shim's
+# Embree error for the curve geometry and finish the render, not crash.
+rc=0
+LD_LIBRARY_PATH="$shim_dir" blender -b --factory-startup --python-exit-code 1 --debug-cycles --verbose 1 \
+  --python "$here/hair.py" -- "$out/shim_hair.png" > "$out/shim_hair.log" 2>&1 || rc=$?
+hair_error="$(grep -E "embree\.cpp:[0-9]+\] rtcNewGeometry: RTC_GEOMETRY_TYPE_CURVE is not supported" \
+  "$out/shim_hair.log" | head -1 || true)"
+if [ "$rc" -ne 0 ] || ! grep -q "^hair.py: libembree3 mapped: $(realpath "$shim_lib")\$" "$out/shim_hair.log" \
+    || ! grep -q "^hair.py: rendered" "$out/shim_hair.log" || [ -z "$hair_error" ]; then
+  echo "cycles: FAILED: hair through the shim (exit $rc) did not end in Cycles logging the shim's error" \
+    "and finishing the render; last lines of $out/shim_hair.log:" >&2
+  grep -v "^Fra:" "$out/shim_hair.log" | tail -15 >&2
+  status=1
+else
+  echo "  shim_hair: rendered without the hair; Cycles logged: ${hair_error#*] }"
+fi
 
 if [ "$status" -eq 0 ]; then
   /usr/bin/python3 "$here/compare.py" "$out"/embree_{1,2,3}.npy "$out"/shim_{1,2}.npy \
