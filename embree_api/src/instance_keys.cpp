@@ -7,13 +7,7 @@
 #include "errors.h"
 
 namespace mbrt::embree_api {
-namespace {
 
-Quaternion rotationOf(const RTCQuaternionDecomposition& d) {
-  return {d.quaternion_r, d.quaternion_i, d.quaternion_j, d.quaternion_k};
-}
-
-// The upper-triangular S of a decomposition: scale, skew and shift.
 Affine3f scaleSkewShift(const RTCQuaternionDecomposition& d) {
   Affine3f s;
   s.vx = {d.scale_x, 0, 0};
@@ -21,6 +15,12 @@ Affine3f scaleSkewShift(const RTCQuaternionDecomposition& d) {
   s.vz = {d.skew_xz, d.skew_yz, d.scale_z};
   s.p = {d.shift_x, d.shift_y, d.shift_z};
   return s;
+}
+
+namespace {
+
+Quaternion rotationOf(const RTCQuaternionDecomposition& d) {
+  return {d.quaternion_r, d.quaternion_i, d.quaternion_j, d.quaternion_k};
 }
 
 bool usableMatrix(const Affine3f& m) { return m.isFinite() && std::fabs(m.determinant()) > 1e-30f; }

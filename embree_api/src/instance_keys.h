@@ -23,6 +23,8 @@ namespace mbrt::embree_api {
 Affine3f loadTransform(RTCFormat format, const float* m);
 void storeTransform(const Affine3f& a, RTCFormat format, float* m);
 
+// The upper-triangular S of a decomposition: scale, skew and shift.
+Affine3f scaleSkewShift(const RTCQuaternionDecomposition& d);
 // T * R * S of a decomposition (at one step).
 Affine3f decompositionMatrix(const RTCQuaternionDecomposition& d);
 

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "instance_keys.h"  // scaleSkewShift, the S of T R S
+
 namespace mbrt::embree_test {
 namespace {
 
@@ -57,15 +59,6 @@ bool plainDecompositions(const std::vector<RTCQuaternionDecomposition>& keys) {
       return false;
   }
   return true;
-}
-
-Affine3f scaleSkewShift(const RTCQuaternionDecomposition& d) {
-  Affine3f s;
-  s.vx = {d.scale_x, 0, 0};
-  s.vy = {d.skew_xy, d.scale_y, 0};
-  s.vz = {d.skew_xz, d.skew_yz, d.scale_z};
-  s.p = {d.shift_x, d.shift_y, d.shift_z};
-  return s;
 }
 
 const TestMesh& meshOf(const TestWorld& w, uint32_t geomID, uint32_t instID) {
@@ -203,7 +196,7 @@ std::shared_ptr<Scene> toMbrtScene(const TestWorld& w) {
         // T R S = (T R) after S: the S matrices as an inner instance.
         auto inner = std::make_shared<Scene>();
         std::vector<Affine3f> s;
-        for (const auto& d : inst.quats) s.push_back(scaleSkewShift(d));
+        for (const auto& d : inst.quats) s.push_back(embree_api::scaleSkewShift(d));
         inner->addInstance(children[inst.child], s);
         id = top->addInstance(inner, keys);
       }
