@@ -5,7 +5,8 @@
 #
 #   bash scripts/check-layers.sh [ROOT]     ROOT: the source tree (default: this one)
 #
-# A module is a folder of src/ (its first component), tools/, or the module a
+# A module is a folder of src/ (its first component), tools/, embree_api/src/
+# (Embree's API over mbrt, docs/embree-api.md), or the module a
 # public header include/mbrt/NAME.h belongs to (PUBLIC below). A file may
 # include its own module and the modules listed for it in ALLOWED. Modules in
 # PUBLIC_ONLY see other modules only through their public headers.
@@ -36,6 +37,7 @@ declare -A ALLOWED=(
   [render]="core scene accel scenes io"
   [bench]="core scene accel scenes io"
   [tools]="core scene accel scenes io render bench"
+  [embree_api]="core scene accel"
 )
 # The module of each public header.
 declare -A PUBLIC=(
@@ -48,7 +50,7 @@ declare -A PUBLIC=(
   [render.h]=render [frame_renderer.h]=render
   [bench.h]=bench
 )
-PUBLIC_ONLY=" io render bench tools scenes c "
+PUBLIC_ONLY=" io render bench tools scenes c embree_api "
 
 module_of_include() {  # "mbrt/x.h" or "dir/x.h" -> module; empty for a file of the includer's own folder
   local inc="$1"
@@ -116,6 +118,11 @@ done < <(find "$root/include/mbrt" -type f -name '*.h' -print0)
 while IFS= read -r -d '' f; do
   check_file "$f" tools; count=$((count + 1))
 done < <(find "$root/tools" -type f \( -name '*.h' -o -name '*.cpp' \) -print0)
+if [ -d "$root/embree_api/src" ]; then
+  while IFS= read -r -d '' f; do
+    check_file "$f" embree_api; count=$((count + 1))
+  done < <(find "$root/embree_api/src" -type f \( -name '*.h' -o -name '*.cpp' \) -print0)
+fi
 
 if [ "$failures" -ne 0 ]; then
   echo "check-layers: $failures upward or private includes in $count files"

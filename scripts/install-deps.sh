@@ -9,9 +9,11 @@ packages=(
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   clang-14 libclang-rt-14-dev
   libopenmpi-dev openmpi-bin
+  embree-tools
   python3-dev python3-numpy python3-pybind11 pybind11-dev python3-pytest python3-matplotlib
   python3-pip python3-setuptools python3-wheel python3-venv
   git ca-certificates
+  python3-open3d blender  # embree_api/clients: Open3D and Cycles run on the libembree3 shim
 )
 
 missing=()

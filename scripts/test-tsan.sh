@@ -5,7 +5,10 @@
 # -DMBRT_SANITIZE=thread in build-tsan -- nothing else, to stay cheap -- and
 # runs both its tests: 8 threads tracing one accel of every kind at once
 # (single rays, batches, occlusion, stats, a filter on the tracing threads),
-# and six accels built over one scene by six threads at once. TBB's own
+# and six accels built over one scene by six threads at once; and, when the
+# Embree API is built (embree_api/, Embree 3's headers found), its thread
+# test: eight threads tracing one committed scene through libembree3.so.3
+# (rtcIntersect1M, rtcIntersect8, rtcOccluded1, a filter function). TBB's own
 # allocator is replaced there by one on malloc that TSan sees
 # (tests/threads/tbbmalloc_for_tsan.cpp). Any report fails the run.
 set -euo pipefail
@@ -19,9 +22,20 @@ start=$SECONDS
 # No Embree, tools or Python: the target links mbrt_accel alone.
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
   -DMBRT_SANITIZE=thread -DMBRT_WITH_EMBREE=OFF -DMBRT_BUILD_TOOLS=OFF -DMBRT_PYTHON=OFF > /dev/null
-cmake --build "$build_dir" -j"$jobs" --target mbrt_thread_tests
+targets=(mbrt_thread_tests)
+embree_api=0
+if grep -q '^MBRT_EMBREE_API:BOOL=ON' "$build_dir/CMakeCache.txt"; then
+  targets+=(mbrt_embree_api_thread_tests)
+  embree_api=1
+fi
+cmake --build "$build_dir" -j"$jobs" --target "${targets[@]}"
 built=$SECONDS
 
 export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 abort_on_error=1 second_deadlock_stack=1}"
 "$build_dir/mbrt_thread_tests" --gtest_brief=1
+if [ "$embree_api" = 1 ]; then
+  "$build_dir/embree_api/mbrt_embree_api_thread_tests" --gtest_brief=1
+else
+  echo "test-tsan.sh: the Embree API is not built here (no Embree 3 headers): its thread test skipped"
+fi
 echo "test-tsan.sh: no ThreadSanitizer report; build $((built - start)) s, run $((SECONDS - built)) s"
