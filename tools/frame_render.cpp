@@ -123,7 +123,7 @@ void FrameRenderer::update(SceneDescription next, FrameRecord& record) {
     record.update = "rebuild";
   } else {
     arena_->execute([&] { record.refitted = accel_->refit(); });
-    record.update = record.refitted ? "refit" : "rebuild (kind cannot refit)";
+    record.update = accel_->lastUpdate();
     if (record.refitted && job_.policy == UpdatePolicy::Auto) {
       record.sah = accel_->stats().sahCost;
       const double growth = lastBuildSah_ > 0.0 ? record.sah / lastBuildSah_ : 1.0;

@@ -51,6 +51,13 @@ struct BuildOptions {
   // tree, docs/auto.md), which also keeps the decomposition.
   float autoFitTolerance = 1e-5f;
   std::optional<AccelKind> autoLeafKind;
+  // `auto` only: where the cost model's best candidates (kinds of an object,
+  // or the decomposition against the whole scene as one object) lie within
+  // its error, trace a sample of rays through each and keep the measured
+  // best (docs/auto.md, "Measured confirmation"). The choice then depends
+  // on the machine's timing; false keeps the model's choice, which depends
+  // only on the scene and these options.
+  bool autoConfirmByTrace = true;
 };
 
 }  // namespace mbrt

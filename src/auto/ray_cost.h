@@ -104,13 +104,13 @@ struct EntryTally {
   }
 };
 
-// Counts the calls into a structure traced through an instance, while
-// counting is on (only the choice's own sample; off afterwards, so that
-// concurrent tracing never writes).
+// Counts the calls into a structure (owned elsewhere) traced through an
+// instance, while counting is on (only the choice's own sample; off
+// afterwards, so that concurrent tracing never writes).
 class EntryCounting final : public Structure {
  public:
-  EntryCounting(std::unique_ptr<Structure> s, EntryTally& tally, const std::atomic<bool>& on, bool frozen)
-      : s_(std::move(s)), tally_(tally), on_(on), frozen_(frozen) {}
+  EntryCounting(const Structure& s, EntryTally& tally, const std::atomic<bool>& on, bool frozen)
+      : s_(&s), tally_(tally), on_(on), frozen_(frozen) {}
   bool intersect(RayQuery& ray, Hit& hit) const override { return s_->intersect(ray, hit); }
   bool occluded(RayQuery& ray) const override { return s_->occluded(ray); }
   bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
@@ -130,7 +130,7 @@ class EntryCounting final : public Structure {
   uint32_t clusterOf(PrimRef p) const override { return s_->clusterOf(p); }
 
  private:
-  std::unique_ptr<Structure> s_;
+  const Structure* s_;
   EntryTally& tally_;
   const std::atomic<bool>& on_;
   bool frozen_;
