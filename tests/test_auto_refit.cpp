@@ -70,6 +70,18 @@ void expectAgreesAfterMove(const ProceduralScene& ps, const Accel& refitted, con
   EXPECT_EQ(same.anyWrong, 0u);
 }
 
+// auto's test scene (auto_scene.h) built with a forced leaf kind (the
+// decomposition kept), its original beside it to move the vertices from.
+struct MovingAutoScene {
+  explicit MovingAutoScene(AccelKind leaf)
+      : ps(test::autoTestScene()), original(test::autoTestScene()), options(autoOptions(leaf)),
+        accel(Accel::build(*ps.scene, options)) {}
+  ProceduralScene ps, original;
+  BuildOptions options;
+  std::unique_ptr<Accel> accel;
+  MovedScene moved;
+};
+
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // A turn and a shift of everything: rigid parts stay rigid.
@@ -82,30 +94,24 @@ Vec3f turned(const Scene&, uint32_t, uint32_t, Vec3f p) {
 Vec3f waved(Vec3f p, uint32_t step) { return p + Vec3f{0.0f, 0.06f * float(step + 1) * std::sin(7.0f * p.x), 0.0f}; }
 
 TEST(AutoRefit, RigidMovesRefitTheInstancesKeysOnly) {
-  for (const auto& leaf : {std::optional<AccelKind>{AccelKind::BvhInterp}, std::optional<AccelKind>{AccelKind::Msbvh}}) {
-    ProceduralScene ps = test::autoTestScene();
-    const ProceduralScene original = test::autoTestScene();
-    const BuildOptions o = autoOptions(leaf);
-    auto accel = Accel::build(*ps.scene, o);
+  for (AccelKind leaf : {AccelKind::BvhInterp, AccelKind::Msbvh}) {
+    MovingAutoScene m(leaf);
+    auto& [ps, original, o, accel, moved] = m;
     EXPECT_EQ(accel->lastUpdate(), "build");
-    MovedScene moved;
     moved.apply(*ps.scene, *original.scene, turned);
     ASSERT_TRUE(accel->refit()) << accel->lastUpdate();
     const std::string update = accel->lastUpdate();
     EXPECT_TRUE(has(update, "instances' keys")) << update;
-    EXPECT_TRUE(has(update, "refitted (" + std::string(toString(*leaf)) + ")")) << update;
+    EXPECT_TRUE(has(update, "refitted (" + std::string(toString(leaf)) + ")")) << update;
     EXPECT_FALSE(has(update, "rebuilt")) << update;
     EXPECT_EQ(accel->stats().update, update);
-    expectAgreesAfterMove(ps, *accel, o, "rigid move, leaf kind " + std::string(toString(*leaf)));
+    expectAgreesAfterMove(ps, *accel, o, "rigid move, leaf kind " + std::string(toString(leaf)));
   }
 }
 
 TEST(AutoRefit, APartNoLongerRigidIsRebuiltWorldSpaceAlone) {
-  ProceduralScene ps = test::autoTestScene();
-  const ProceduralScene original = test::autoTestScene();
-  const BuildOptions o = autoOptions(AccelKind::BvhInterp);
-  auto accel = Accel::build(*ps.scene, o);
-  MovedScene moved;
+  MovingAutoScene m(AccelKind::BvhInterp);
+  auto& [ps, original, o, accel, moved] = m;
   moved.apply(*ps.scene, *original.scene, [](const Scene&, uint32_t id, uint32_t k, Vec3f p) {
     return id == 0 ? waved(p, k) : p;
   });
@@ -131,11 +137,8 @@ TEST(AutoRefit, APartNoLongerRigidIsRebuiltWorldSpaceAlone) {
 // too, the user instance's own scene moved: keys, refits and one rebuild
 // together, each reported.
 TEST(AutoRefit, MixedMovesRefitWhatTheyCanAndRebuildOnlyTheRest) {
-  ProceduralScene ps = test::autoTestScene();
-  const ProceduralScene original = test::autoTestScene();
-  const BuildOptions o = autoOptions(AccelKind::Msbvh);
-  auto accel = Accel::build(*ps.scene, o);
-  MovedScene moved;
+  MovingAutoScene m(AccelKind::Msbvh);
+  auto& [ps, original, o, accel, moved] = m;
   moved.apply(*ps.scene, *original.scene, [](const Scene& s, uint32_t id, uint32_t k, Vec3f p) {
     return id == 6 ? waved(p, k) : id == 2 ? waved(turned(s, id, k, p), k) : turned(s, id, k, p);
   });

@@ -8,17 +8,12 @@
 #include <cstdio>
 
 #include "auto/auto_structure.h"
+#include "auto/stats_number.h"
 #include "auto/one_instance.h"
 #include "auto/trace_confirm.h"
 
 namespace mbrt::detail {
 namespace {
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
 
 // The flat alternative (the whole scene as one object, no top level) is
 // also built and measured when the scene is small (up to
@@ -143,10 +138,10 @@ void AutoStructure::keepCheaperOfFlat() {
   // buildObject charges the kept kind to flatBudget; flat.budget holds it.
   const std::unique_ptr<BuildBudget> flatBudget = trialBudget(ctx_.budget());
   BuiltObject flat = buildObject(ctx_.scene(), leafOptions_, *flatBudget, ctx_.structureFactory(), childFactory());
-  const std::string figures = "cost per sampled ray / memory: decomposed " + number(split) + " (" +
-                              number(counted.entries) + " instance entries per ray) / " +
-                              number(double(splitStats.bytes) / 1e6) + " MB, whole scene as one object " +
-                              number(flat.rayCost) + " / " + number(double(flat.bytes) / 1e6) + " MB";
+  const std::string figures = "cost per sampled ray / memory: decomposed " + statsNumber(split) + " (" +
+                              statsNumber(counted.entries) + " instance entries per ray) / " +
+                              statsNumber(double(splitStats.bytes) / 1e6) + " MB, whole scene as one object " +
+                              statsNumber(flat.rayCost) + " / " + statsNumber(double(flat.stats.bytes) / 1e6) + " MB";
   const TraceCandidate candidates[] = {{"decomposed", top_.get(), split},
                                        {"whole scene as one object", flat.structure.get(), flat.rayCost}};
   const TraceChoice choice = confirmByTrace(candidates, flat.rayCost < split ? 1 : 0, rays, leafOptions_);
@@ -183,7 +178,7 @@ StructureFactory AutoStructure::childFactory() {
   return [this](const SceneContext& c) -> std::unique_ptr<Structure> {
     for (const auto& o : objects_)
       if (o->scene.get() == &c.scene() && o->built.structure)
-        return std::make_unique<EntryCounting>(*o->built.structure, tally_, counting_,
+        return std::make_unique<EntryCounting>(*o->built.structure, o->built.stats, tally_, counting_,
                                                o->built.kind == AccelKind::Frozen);
     auto u = userStructures_.find(&c.scene());
     if (u != userStructures_.end()) return std::make_unique<BorrowedStructure>(*u->second);

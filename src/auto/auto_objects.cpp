@@ -4,17 +4,12 @@
 #include <cstdio>
 
 #include "auto/auto_structure.h"
+#include "auto/stats_number.h"
 #include "auto/part_bounds.h"
 #include "bvh/kinds/cluster_bvh.h"
 
 namespace mbrt::detail {
 namespace {
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
 
 std::vector<uint32_t> allOrSome(const Geometry& g, const std::vector<uint32_t>& prims) {
   if (!prims.empty()) return prims;
@@ -68,7 +63,7 @@ std::string AutoStructure::rigidLine(size_t index, const AutoObject& o) const {
          (o.prims.empty() ? "all " + std::to_string(n) + " triangles"
                           : "a connected piece of " + std::to_string(n) + " triangles") +
          ": rigid, " + std::to_string(o.keys.size()) + " " + toString(o.fit.form) + " keys, residual " +
-         number(o.fit.maxResidual) + " of its diagonal " + number(o.fit.diagonal) + "; kind " +
+         statsNumber(o.fit.maxResidual) + " of its diagonal " + statsNumber(o.fit.diagonal) + "; kind " +
          std::string(toString(o.built.kind)) + ": " + o.built.why;
 }
 
@@ -90,20 +85,16 @@ bool AutoStructure::addCluster(const ClusterPart& part) {
   b.context = std::make_unique<SceneContext>(*o->scene, leafOptions_, *b.budget, ctx_.structureFactory());
   b.structure = makeClusterBvh(*b.context, part.maps);
   if (!b.structure) return false;
-  AccelStats s;
-  b.structure->fillStats(s);
-  b.bytes = s.bytes;
-  b.leafBlockBytes = s.leafBlockBytes;
-  b.sahCost = s.sahCost;
+  b.measure();
   chargeKept(*b.budget, *decomposedBudget_);
   const Geometry& g = ctx_.geometry(part.geomID);
   o->keys.assign(g.numSteps(), Affine3f());
   o->keyBoxes = trianglesKeyBoxes(g, part.prims, 0.0f);
   o->line = "object " + std::to_string(objects_.size()) + ": geometry " + std::to_string(part.geomID) + ", " +
             std::to_string(part.prims.size()) + " triangles: near-rigid cluster, " + std::to_string(part.maps.size()) +
-            " affine keys, the mesh's rms residual " + number(part.rmsResidual) +
+            " affine keys, the mesh's rms residual " + statsNumber(part.rmsResidual) +
             " of its diagonal; kind cluster-bvh: a static tree over the fuzzy boxes in its frame, " +
-            number(double(b.bytes) / 1e6) + " MB";
+            statsNumber(double(b.stats.bytes) / 1e6) + " MB";
   objects_.push_back(std::move(o));
   return true;
 }

@@ -2,12 +2,18 @@
 // is updated as its choice allows, and only the objects whose choice no
 // longer holds are rebuilt:
 //  - a rigid part's keys are fitted again from the rest pose its tree was
-//    built over to the new steps (its tree stays); a part no longer rigid
-//    within the tolerance becomes a world-space object of its own;
+//    built over to the new steps (its tree stays); a part rigid over the
+//    new steps but not from that pose gets its tree again over the new
+//    first step; a part no longer rigid at all becomes a world-space object
+//    of its own;
 //  - a tree that refits in place (bvh-interp, msbvh) is refitted; one whose
 //    kind cannot is rebuilt with the cheapest of its trials that can, so
-//    that the next frames refit; a refitted tree whose SAH cost grew past
-//    kRefitSahGrowth times its build's is rebuilt with its kind;
+//    that the next frames refit; an object's refitted tree whose SAH cost
+//    grew past kRefitSahGrowth times its build's is rebuilt with its kind
+//    (checked every kSahCheckRefits refits: the SAH's pass over every
+//    primitive costs as much as the refit itself, and a tree degrades
+//    slowly; the whole scene as one object is left to the caller's check
+//    of Accel::stats().sahCost, as for any kind);
 //  - a near-rigid cluster's tree is made again in a frame fitted to the new
 //    steps;
 // then the top level is made again over the new keys and bounds.
@@ -23,6 +29,7 @@ namespace {
 
 // As `mbrt render --frames --update auto`'s default rebuild factor.
 constexpr double kRefitSahGrowth = 1.5;
+constexpr uint32_t kSahCheckRefits = 4;
 
 std::string count(size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
@@ -58,7 +65,7 @@ bool AutoStructure::refit() {
   try {
     RefitReport report;
     if (!decomposed_) {
-      refitTree(whole_, ctx_.scene(), childFactory(), report);
+      refitTree(whole_, ctx_.scene(), childFactory(), false, report);
       trace_ = whole_.structure.get();
       refitSummary_ = report.text();
       return true;
@@ -78,7 +85,7 @@ bool AutoStructure::refit() {
             for (uint32_t k = 0; k < g.numSteps(); ++k) o.scene->setVertices(id, k, g.vertices(k));
             o.scene->setMask(id, g.mask());
           }
-          refitTree(o.built, *o.scene, ctx_.structureFactory(), report);
+          refitTree(o.built, *o.scene, ctx_.structureFactory(), true, report);
           break;
         case ObjectType::UserInstance:  // its structure is refitted by the enclosing context
           break;
@@ -95,14 +102,29 @@ bool AutoStructure::refit() {
 
 void AutoStructure::refitRigid(AutoObject& o, size_t index, RefitReport& report) {
   const Geometry& g = ctx_.geometry(o.geomID);
-  PartFit fit = refitPart(std::span<const Vec3f>(o.rest.data(), o.restVertices.size()), g, o.restVertices,
-                          ctx_.options().autoFitTolerance);
-  if (!fit.fits) return makeWorldSpace(o, index, "no longer rigid", report);
+  const double tolerance = ctx_.options().autoFitTolerance;
+  PartFit fit = refitPart(std::span<const Vec3f>(o.rest.data(), o.restVertices.size()), g, o.restVertices, tolerance);
+  if (!fit.fits) {
+    // Rigid over this frame's steps but not from the kept rest pose (a part
+    // near a joint is nearly rigid over a short shutter, not over a walk):
+    // its tree made again over this frame's first step, its kind kept.
+    fit = fitPart(g, o.restVertices, tolerance);
+    if (!fit.fits) return makeWorldSpace(o, index, "no longer rigid", report);
+    for (size_t i = 0; i < o.restVertices.size(); ++i) o.rest[i] = g.vertices(0)[o.restVertices[i]];
+    o.rest.back() = o.rest[o.restVertices.size() - 1];
+    BuiltObject next = buildObjectOfKind(*o.scene, leafOptions_, o.built.kind, ctx_.budget(), ctx_.structureFactory(),
+                                         ctx_.structureFactory());
+    next.why = o.built.why;
+    next.trials = o.built.trials;
+    replaceObject(o.built, std::move(next));
+    ++report.rebuilt["rigid over this frame, not from its rest pose: its tree over a new one"];
+  } else {
+    ++report.keys;
+  }
   o.fit = std::move(fit);
   o.keys = o.fit.keys;
-  o.keyBoxes = partKeyBoxes(g, RigidPart{o.geomID, o.prims, o.fit});
+  o.keyBoxes = partKeyBoxes(g, o.restVertices, o.fit);
   o.line = rigidLine(index, o);
-  ++report.keys;
 }
 
 // The cluster's frame fitted to the new steps (a decomposition of its
@@ -124,11 +146,7 @@ void AutoStructure::refitCluster(AutoObject& o, size_t index, RefitReport& repor
   b.context = std::make_unique<SceneContext>(*o.scene, leafOptions_, *b.budget, ctx_.structureFactory());
   b.structure = makeClusterBvh(*b.context, maps);
   if (!b.structure) return makeWorldSpace(o, index, "a cluster without a usable bound in its new frame", report);
-  AccelStats s;
-  b.structure->fillStats(s);
-  b.bytes = s.bytes;
-  b.leafBlockBytes = s.leafBlockBytes;
-  b.sahCost = s.sahCost;
+  b.measure();
   b.kind = o.built.kind;
   chargeKept(*b.budget, ctx_.budget());
   replaceObject(o.built, std::move(b));
@@ -139,18 +157,18 @@ void AutoStructure::refitCluster(AutoObject& o, size_t index, RefitReport& repor
 
 // Refits b in place where its kind can; else rebuilds it with the cheapest
 // of its trials that refits (b's own kind when none does).
-void AutoStructure::refitTree(BuiltObject& b, const Scene& scene, const StructureFactory& children,
+void AutoStructure::refitTree(BuiltObject& b, const Scene& scene, const StructureFactory& children, bool checkSah,
                               RefitReport& report) {
   const std::string kind(toString(b.kind));
   if (b.structure->refit()) {
     AccelStats s;
-    b.structure->fillStats(s);
-    if (!(s.sahCost > kRefitSahGrowth * b.sahCost)) {
+    if (checkSah && ++b.refits % kSahCheckRefits == 0) b.structure->fillStats(s);
+    if (!(s.sahCost > kRefitSahGrowth * b.stats.sahCost)) {
       ++report.refitted[kind];
       return;
     }
     char why[64];
-    std::snprintf(why, sizeof why, "%s refitted to SAH x%.2f", kind.c_str(), s.sahCost / b.sahCost);
+    std::snprintf(why, sizeof why, "%s refitted to SAH x%.2f", kind.c_str(), s.sahCost / b.stats.sahCost);
     BuiltObject next = buildObjectOfKind(scene, leafOptions_, b.kind, ctx_.budget(), ctx_.structureFactory(), children);
     next.why = b.why;
     next.trials = b.trials;

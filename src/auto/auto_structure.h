@@ -102,7 +102,8 @@ class AutoStructure final : public Structure {
   // Refit (auto_refit.cpp).
   void refitRigid(AutoObject& o, size_t index, RefitReport& report);
   void refitCluster(AutoObject& o, size_t index, RefitReport& report);
-  void refitTree(BuiltObject& b, const Scene& scene, const StructureFactory& children, RefitReport& report);
+  void refitTree(BuiltObject& b, const Scene& scene, const StructureFactory& children, bool checkSah,
+                 RefitReport& report);
   void makeWorldSpace(AutoObject& o, size_t index, const std::string& why, RefitReport& report);
   void replaceObject(BuiltObject& old, BuiltObject next);
 

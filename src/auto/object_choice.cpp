@@ -37,12 +37,7 @@ BuiltObject buildKind(const Scene& scene, const BuildOptions& options, AccelKind
   b.budget = trialBudget(budget);
   b.context = std::make_unique<SceneContext>(scene, o, *b.budget, children);
   b.structure = registry(*b.context);
-  AccelStats s;
-  b.structure->fillStats(s);
-  b.context->addChildStats(s);
-  b.bytes = s.bytes;
-  b.leafBlockBytes = s.leafBlockBytes;
-  b.sahCost = s.sahCost;
+  b.measure();
   return b;
 }
 
@@ -78,7 +73,7 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   const std::vector<RayQuery> rays = sampleRays(*trials.front().context);
   const RayCostWeights weights = weightsFor(scene);
   for (BuiltObject& t : trials)
-    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.bytes, t.leafBlockBytes);
+    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.stats.bytes, t.stats.leafBlockBytes);
   size_t best = 0;
   for (size_t i = 0; i < trials.size(); ++i)
     if (trials[i].rayCost < trials[best].rayCost) best = i;
@@ -86,10 +81,10 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   // that close is within the sample's scatter, the memory is not.
   const double bestCost = trials[best].rayCost;
   for (size_t i = 0; i < trials.size(); ++i)
-    if (trials[i].rayCost <= bestCost * (1.0 + kNearCost) && trials[i].bytes < trials[best].bytes) best = i;
+    if (trials[i].rayCost <= bestCost * (1.0 + kNearCost) && trials[i].stats.bytes < trials[best].stats.bytes) best = i;
   for (size_t i = 0; i < trials.size(); ++i) {
     figures += std::string(figures.empty() ? "" : ", ") + std::string(toString(trials[i].kind)) + " " +
-               number(trials[i].rayCost) + " / " + megabytes(trials[i].bytes);
+               number(trials[i].rayCost) + " / " + megabytes(trials[i].stats.bytes);
   }
   std::vector<std::pair<AccelKind, double>> costs;
   std::vector<TraceCandidate> candidates;

@@ -20,13 +20,22 @@ struct BuiltObject {
   std::unique_ptr<Structure> structure;
   AccelKind kind = AccelKind::BvhInterp;
   std::string why;  // the reason for the choice, with the trial figures
-  size_t bytes = 0;
-  size_t leafBlockBytes = 0;  // of bytes, in leaf blocks (AccelStats)
-  double sahCost = 0;
+  // Its statistics when built (with its context's instanced structures):
+  // a refit changes its SAH cost, never its bytes, nodes or references,
+  // which are all the top level's statistics read of it.
+  AccelStats stats;
   double rayCost = 0;  // measured per sampled ray, in node visits (ray_cost.h)
   // Every trial's kind and measured cost (empty where no trial was made):
   // what a refit picks from when the kept kind cannot refit.
   std::vector<std::pair<AccelKind, double>> trials;
+  uint32_t refits = 0;  // in place since it was built
+
+  // Fills `stats` from the structure.
+  void measure() {
+    stats = AccelStats{};
+    structure->fillStats(stats);
+    if (context) context->addChildStats(stats);
+  }
 };
 
 // The kinds whose Structure::refit updates a tree in place for new vertices
