@@ -1,10 +1,12 @@
 # The C API (include/mbrt/mbrt.h, src/c/): the shared library libmbrt.so,
 # its install and pkg-config file, the C example and the C tests.
 #
-# libmbrt.so links mbrt_accel statically and exports the C API only: the C
+# libmbrt.so links mbrt_io (the loaders of its animations, and through it
+# mbrt_scenes and mbrt_accel) statically and exports the C API only: the C
 # layer is compiled with hidden visibility and a version script makes every
-# other symbol (the static C++ code pulled in from mbrt_accel) local, so
-# that the library cannot clash with another copy of TBB-using C++ code.
+# other symbol (the static C++ code pulled in) local, so that the library
+# cannot clash with another copy of TBB-using C++ code. libpng and OpenEXR
+# (mbrt_io's) become libmbrt's dependencies.
 enable_language(C)
 include(GNUInstallDirs)
 
@@ -33,7 +35,7 @@ set_target_properties(mbrt_c PROPERTIES
 target_include_directories(mbrt_c PUBLIC
   $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 target_include_directories(mbrt_c PRIVATE ${PROJECT_SOURCE_DIR}/src)
-target_link_libraries(mbrt_c PRIVATE mbrt_accel)
+target_link_libraries(mbrt_c PRIVATE mbrt_io)
 target_compile_options(mbrt_c PRIVATE ${MBRT_ISA_FLAGS} $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra>)
 target_link_options(mbrt_c PRIVATE
   -Wl,--version-script=${PROJECT_SOURCE_DIR}/src/c/exports.map -Wl,--no-undefined)
@@ -42,24 +44,36 @@ install(TARGETS mbrt_c EXPORT mbrtTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 
-# The static C library libmbrt.a, installed beside libmbrt.so: the C layer
-# and the kernel (mbrt_accel) merged into one archive, so that
+# The static C library libmbrt.a, installed beside libmbrt.so: the C layer,
+# the loaders, the scene suite and the kernel (mbrt_io, mbrt_scenes,
+# mbrt_accel) merged into one archive, so that
 # `cc app.c $(pkg-config --static --libs mbrt)` links without the shared one.
 add_library(mbrt_c_part STATIC ${MBRT_C_SOURCES})
 target_include_directories(mbrt_c_part PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src)
-target_link_libraries(mbrt_c_part PRIVATE mbrt_accel)
+target_link_libraries(mbrt_c_part PRIVATE mbrt_io)
 target_compile_options(mbrt_c_part PRIVATE ${MBRT_ISA_FLAGS})
 set(MBRT_C_STATIC ${PROJECT_BINARY_DIR}/static/libmbrt.a)
 add_custom_command(OUTPUT ${MBRT_C_STATIC}
   COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/static
   COMMAND ${CMAKE_COMMAND} -DOUTPUT=${MBRT_C_STATIC} -DAR=${CMAKE_AR}
-          "-DINPUTS=$<TARGET_FILE:mbrt_c_part>|$<TARGET_FILE:mbrt_accel>"
+          "-DINPUTS=$<TARGET_FILE:mbrt_c_part>|$<TARGET_FILE:mbrt_io>|$<TARGET_FILE:mbrt_scenes>|$<TARGET_FILE:mbrt_accel>"
           -P ${PROJECT_SOURCE_DIR}/cmake/MergeStatic.cmake
-  DEPENDS mbrt_c_part mbrt_accel ${PROJECT_SOURCE_DIR}/cmake/MergeStatic.cmake VERBATIM)
+  DEPENDS mbrt_c_part mbrt_io mbrt_scenes mbrt_accel ${PROJECT_SOURCE_DIR}/cmake/MergeStatic.cmake VERBATIM)
 add_custom_target(mbrt_c_static ALL DEPENDS ${MBRT_C_STATIC})
 install(FILES ${MBRT_C_STATIC} DESTINATION ${CMAKE_INSTALL_LIBDIR})
-# What a static link needs besides libmbrt.a (pkg-config --static).
-set(MBRT_PC_LIBS_PRIVATE "-ltbb -lstdc++ -lm -lpthread")
+# What a static link needs besides libmbrt.a (pkg-config --static): the
+# loaders' libpng and OpenEXR as their own pkg-config files name them.
+find_package(PkgConfig REQUIRED)
+set(_mbrt_io_modules libpng)
+if(MBRT_WITH_OPENEXR)
+  list(APPEND _mbrt_io_modules OpenEXR)
+endif()
+execute_process(COMMAND ${PKG_CONFIG_EXECUTABLE} --libs ${_mbrt_io_modules}
+                RESULT_VARIABLE _mbrt_pc_rc OUTPUT_VARIABLE _mbrt_io_libs OUTPUT_STRIP_TRAILING_WHITESPACE)
+if(NOT _mbrt_pc_rc EQUAL 0)
+  message(FATAL_ERROR "pkg-config knows no ${_mbrt_io_modules}: the static libmbrt.a needs their link flags")
+endif()
+set(MBRT_PC_LIBS_PRIVATE "${_mbrt_io_libs} -ltbb -lstdc++ -lm -lpthread")
 if(MBRT_WITH_EMBREE)
   string(PREPEND MBRT_PC_LIBS_PRIVATE "-lembree3 ")
 endif()
@@ -93,15 +107,21 @@ if(MBRT_BUILD_TESTS)
   target_compile_options(mbrt_c_example PRIVATE ${_mbrt_c_warnings})
   target_link_libraries(mbrt_c_example PRIVATE mbrt_c)
   add_test(NAME capi.example COMMAND mbrt_c_example)
+  add_executable(mbrt_c_frames ${PROJECT_SOURCE_DIR}/examples/c/frames.c)
+  set_target_properties(mbrt_c_frames PROPERTIES C_STANDARD 99 C_STANDARD_REQUIRED ON C_EXTENSIONS OFF)
+  target_compile_options(mbrt_c_frames PRIVATE ${_mbrt_c_warnings})
+  target_link_libraries(mbrt_c_frames PRIVATE mbrt_c)
+  add_test(NAME capi.frames_example COMMAND mbrt_c_frames)
 
   add_executable(mbrt_c_tests ${PROJECT_SOURCE_DIR}/tests/c/test_capi.c)
   set_target_properties(mbrt_c_tests PROPERTIES C_STANDARD 99 C_STANDARD_REQUIRED ON C_EXTENSIONS OFF)
   target_compile_options(mbrt_c_tests PRIVATE ${_mbrt_c_warnings})
   target_link_libraries(mbrt_c_tests PRIVATE mbrt_c Threads::Threads m)
+  target_compile_definitions(mbrt_c_tests PRIVATE MBRT_TEST_DATA="${PROJECT_SOURCE_DIR}/tests/data")
   # One CTest per case of tests/c/test_capi.c (its main runs the case named).
   foreach(case IN ITEMS version null_handles wrong_handles bad_arguments bad_kind error_callback
                         release_in_use frozen_scene time_range_and_mask srt_instances filters agreement batched soa
-                        threads stats memory_budget auto_options)
+                        threads stats memory_budget auto_options animation animation_layouts animation_errors)
     add_test(NAME capi.${case} COMMAND mbrt_c_tests ${case})
   endforeach()
   set_tests_properties(capi.agreement PROPERTIES COST 500)  # a long one: started early
@@ -118,7 +138,7 @@ if(MBRT_BUILD_TESTS)
   add_test(NAME capi.plain_cc
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/plain_cc.sh ${PROJECT_SOURCE_DIR}
                    $<TARGET_FILE_DIR:mbrt_c> ${PROJECT_BINARY_DIR}/capi_plain_cc "${MBRT_PLAIN_CC_FLAGS}")
-  # The example links statically against libmbrt.a alone (no libmbrt.so).
+  # The examples link statically against libmbrt.a alone (no libmbrt.so).
   add_test(NAME capi.static_link
            COMMAND bash ${PROJECT_SOURCE_DIR}/tests/c/static_link.sh ${PROJECT_SOURCE_DIR} ${MBRT_C_STATIC}
                    ${PROJECT_BINARY_DIR}/capi_static "${MBRT_PLAIN_CC_FLAGS} ${MBRT_PC_LIBS_PRIVATE}")

@@ -16,9 +16,10 @@
 //     build/libmbrt_accel.a -lpng -lz -ltbb -lembree3
 // Run: build/time_kinds SCENE SIZE KIND,KIND,... ROUNDS [RAYS_OUT [PRIMARY_SIDE]]
 //   A KIND of auto:LEAF is auto with every object of kind LEAF (the
-//   autoLeafKind option); `embree` is Embree's robust mode, `embree-default`
-//   its default flags, `embree-static` its static BVH at the frozen time
-//   (`embree-static-robust`: that BVH with its robust flag).
+//   autoLeafKind option); Embree's rows are named as in the bench
+//   (embreeRowName: `embree` its default flags, `embree-robust` its robust
+//   mode, `embree-static` its static BVH at the frozen time,
+//   `embree-static-robust` that BVH with its robust flag).
 //   With FROZEN=t in the environment every ray is at time t, and `frozen`
 //   and the `embree-static` rows are built there. SIZE is that of a
 //   built-in scene, as --size; the real scenes of the bench go by name.
@@ -103,12 +104,9 @@ int main(int argc, char** argv) {
     p = q + 1;
     BuildOptions o;
     const size_t colon = names.back().find(':');
-    const bool embreeDefault = names.back() == "embree-default";  // `embree` alone: robust mode
-    const bool embreeStatic = names.back() == "embree-static";
-    const bool embreeStaticRobust = names.back() == "embree-static-robust";
-    const bool embree = embreeDefault || embreeStatic || embreeStaticRobust;
-    const auto kind = embree ? std::optional<AccelKind>(AccelKind::Embree)
-                             : parseAccelKind(names.back().substr(0, colon));
+    const std::optional<BuildOptions::EmbreeMode> embreeMode = parseEmbreeRow(names.back());
+    const auto kind = embreeMode ? std::optional<AccelKind>(AccelKind::Embree)
+                                 : parseAccelKind(names.back().substr(0, colon));
     const auto leafKind =
         colon == std::string::npos ? std::optional<AccelKind>() : parseAccelKind(names.back().substr(colon + 1));
     if (!kind || (colon != std::string::npos && (!leafKind || *kind != AccelKind::Auto))) {
@@ -116,9 +114,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     o.kind = *kind;
-    if (embreeDefault) o.embreeMode = BuildOptions::EmbreeMode::Default;
-    if (embreeStatic) o.embreeMode = BuildOptions::EmbreeMode::Static;
-    if (embreeStaticRobust) o.embreeMode = BuildOptions::EmbreeMode::StaticRobust;
+    if (embreeMode) o.embreeMode = *embreeMode;
     if (frozenTime) o.frozenTime = *frozenTime;
     o.autoLeafKind = leafKind;
     const auto t0 = std::chrono::steady_clock::now();

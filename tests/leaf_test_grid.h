@@ -1,16 +1,20 @@
-// What the leaf tests (test_leaf_runs.cpp, test_leaf_blocks.cpp) share: a
-// grid of triangles with shared edges, ties and degenerate triangles, rays
-// aimed at its vertices, edges and insides, and bit-exact hit comparison.
+// What the leaf tests (test_leaf_runs.cpp, test_leaf_blocks.cpp,
+// test_motion_blocks.cpp, test_gathered_runs.cpp, test_segment_blocks.cpp)
+// share: a grid of triangles with shared edges, ties and degenerate
+// triangles, rays aimed at its vertices, edges and insides, bit-exact hit
+// comparison, and leaves laid out as a tree's.
 #pragma once
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "bvh/nodes/wide_bvh.h"
 #include "core/ray_query.h"
 #include "scene/primitive_intersect.h"
 #include "scene/scene_context.h"
@@ -101,6 +105,56 @@ inline OneByOne oneByOne(const detail::SceneContext& ctx, std::span<const detail
     out.occluded = out.occluded || detail::occludedPrimitive(ctx, p, ray);
   }
   return out;
+}
+
+// Leaves as the builder stores them (each sorted by geometry, then
+// primitive) in a one-node tree, laid out as layOut does for blocks: each
+// leaf starts at a multiple of four in the table, the gaps repeating its
+// last reference.
+template <bool Motion = false>
+detail::WideBvh<8, Motion> leavesOf(std::vector<std::vector<detail::PrimRef>> leaves) {
+  detail::WideBvh<8, Motion> bvh;
+  bvh.nodes.resize(1);
+  bvh.nodes[0].clear();
+  for (size_t lane = 0; lane < leaves.size(); ++lane) {
+    std::vector<detail::PrimRef>& refs = leaves[lane];
+    std::sort(refs.begin(), refs.end(), [](detail::PrimRef a, detail::PrimRef b) {
+      return a.geomID != b.geomID ? a.geomID < b.geomID : a.primID < b.primID;
+    });
+    bvh.nodes[0].count[lane] = uint8_t(refs.size());
+    bvh.nodes[0].child[lane] = uint32_t(bvh.prims.size());
+    bvh.prims.insert(bvh.prims.end(), refs.begin(), refs.end());
+    while (bvh.prims.size() % 4 != 0) {
+      bvh.prims.push_back(refs.back());
+      ++bvh.paddingRefs;
+    }
+  }
+  return bvh;
+}
+template <bool Motion = false>
+detail::WideBvh<8, Motion> oneLeaf(std::vector<detail::PrimRef> refs) {
+  return leavesOf<Motion>({std::move(refs)});
+}
+
+// The grids of the motion-leaf tests: 5, 2 and 1 steps (one alive over
+// part of the shutter only), masks 1 to 3, and one beyond float's
+// edge-function range (the double path).
+inline void addMotionGrids(Scene& scene) {
+  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 5, true), 1u);
+  scene.setMask(addGrid(scene, 5, 1.0f, 0.0f, 2, false, {0.25f, 0.75f}), 2u);
+  scene.setMask(addGrid(scene, 4, 1.0f, 0.25f, 1, true), 3u);
+  addGrid(scene, 3, 1e13f, 0.5f, 3, true);
+}
+
+// A leaf of 1 to 13 references of geometry g: consecutive triangles, a
+// quarter of them replaced by any other.
+inline std::vector<detail::PrimRef> drawLeaf(std::mt19937& rng, const Geometry& g, uint32_t geomID) {
+  const uint32_t numTris = uint32_t(g.triangles().size());
+  const uint32_t count = 1 + rng() % 13;
+  const uint32_t first = rng() % (numTris - count);
+  std::vector<detail::PrimRef> refs;
+  for (uint32_t i = 0; i < count; ++i) refs.push_back({geomID, uint32_t(rng() % 4 == 0 ? rng() % numTris : first + i)});
+  return refs;
 }
 
 }  // namespace mbrt::test

@@ -43,8 +43,9 @@ void settleAndReport(const ProceduralScene& ps, const std::vector<Ray>& rays, co
 }
 
 TEST(EmbreeReference, HairAndDemo) {
-  for (const char* name : {"hair", "demo", "hairball"}) {
-    const ProceduralScene ps = makeProceduralScene(name, std::string(name) == "demo" ? 0.3 : 0.003, 5);
+  for (const char* name : {"hair", "demo", "hairball", "ribbons"}) {
+    const std::string n = name;
+    const ProceduralScene ps = makeProceduralScene(name, n == "demo" ? 0.3 : n == "ribbons" ? 0.1 : 0.003, 5);
     // oracleRays includes rays at 0, 1 and every step time.
     settleAndReport(ps, test::oracleRays(ps, test::scaled(6000, 300), test::scaled(40, 4), 31), name);
   }

@@ -1,6 +1,6 @@
-// Frame sequences at the library level: a structure refitted after the
-// scene's vertices moved on to the next frames (Accel::refit, MSBVH §5)
-// renders the images a rebuild renders, within the ties tolerance of the
+// Frame sequences at the library level: a structure refitted after an
+// animation's scene moved on to the next frames (mbrt/io/animation.h,
+// Accel::refit, MSBVH §5) renders the images a rebuild renders, within the ties tolerance of the
 // render tests (test_render.cpp): at most 0.1% of the pixels (and at least
 // one) differ by more than 1/255, and only where a primary hit is a tie.
 #include <gtest/gtest.h>
@@ -8,38 +8,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mbrt/frame_renderer.h"
 #include "mbrt/render.h"
 #include "mbrt/scenes.h"
 #include "test_util.h"
 
 namespace mbrt {
 namespace {
-
-// The scene's motion over [a, a + 0.5] on its steps: what a frame later in a
-// sequence shows. Owns the vertices the scene is pointed at.
-class MovedVertices {
- public:
-  void moveTo(Scene& scene, const Scene& original, float a) {
-    data_.clear();
-    for (uint32_t id = 0; id < original.numGeometries(); ++id) {
-      const Geometry& g = original.geometry(id);
-      if (g.type() == GeometryType::Instance || g.numSteps() < 2) continue;
-      for (uint32_t k = 0; k < g.numSteps(); ++k) {
-        const float t = std::min(1.0f, a + 0.5f * g.stepTime(k));
-        auto& v = data_.emplace_back(g.vertices(0).count + 1);  // one more: readable padding
-        for (size_t i = 0; i + 1 < v.size(); ++i) v[i] = g.vertexAt(t, uint32_t(i));
-        VertexBuffer b;
-        b.data = v.data();
-        b.count = v.size() - 1;
-        b.padding = sizeof(Vec3f);
-        scene.setVertices(id, k, b);
-      }
-    }
-  }
-
- private:
-  std::vector<std::vector<Vec3f>> data_;
-};
 
 bool sameOrTie(const Hit& a, const Hit& b) {
   if (a.valid() != b.valid()) return false;
@@ -73,32 +48,37 @@ void expectSameImage(const SceneDescription& scene, const Accel& refitted, const
   EXPECT_LE(differing, std::max<size_t>(1, size_t(o.width) * size_t(o.height) / 1000)) << differing << " pixels";
 }
 
+// A built-in scene's frames (mbrt/io/animation.h): each frame's vertices
+// replace the last's in place and the structure follows by refitting.
 void checkRefitFrames(const std::string& name, double size, AccelKind kind) {
   SCOPED_TRACE(name + " with " + std::string(toString(kind)));
-  ProceduralScene p = makeProceduralScene(name, size, 7);
-  ProceduralScene original = makeProceduralScene(name, size, 7);
-  SceneDescription scene;
-  scene.name = p.name;
-  scene.scene = p.scene;
-  scene.camera.keys = {p.camera};
+  AnimationOptions ao;
+  ao.size = size;
+  ao.seed = 7;
+  Animation animation(name, ao);
+  const FrameClock clock;
   RenderOptions o;
   o.width = 40;
   o.height = 30;
   o.spp = 2;
   o.integrator = IntegratorKind::Ao;
   o.seed = 5;
+  BuildOptions build;
+  build.kind = kind;
+  AccelUpdater updater(UpdatePolicy::Refit);
+  std::unique_ptr<Accel> accel;
+  EXPECT_EQ(updater.update(accel, *animation.frame(0, clock).scene, build).what, "build");
   bool instances = false;
-  for (uint32_t id = 0; id < scene.scene->numGeometries(); ++id)
-    instances = instances || scene.scene->geometry(id).type() == GeometryType::Instance;
-  auto accel = test::buildKind(*scene.scene, kind);
-  MovedVertices moved;
+  for (uint32_t id = 0; id < animation.current().scene->numGeometries(); ++id)
+    instances = instances || animation.current().scene->geometry(id).type() == GeometryType::Instance;
   // Three later frames; one in the sanitizer build (MBRT_TEST_SCALE < 1).
-  const std::vector<float> frames =
-      test::testScale() < 1.0 ? std::vector<float>{0.25f} : std::vector<float>{0.1f, 0.25f, 0.5f};
-  for (float a : frames) {
-    moved.moveTo(*scene.scene, *original.scene, a);
-    // Instances are rebuilt, never refitted (their key boxes are made once).
-    EXPECT_EQ(accel->refit(), !instances) << "frame at " << a;
+  const std::vector<int64_t> frames = test::testScale() < 1.0 ? std::vector<int64_t>{6} : std::vector<int64_t>{2, 6, 12};
+  for (int64_t f : frames) {
+    const SceneDescription& scene = animation.frame(f, clock);
+    // Instances change the layout (their keys cannot be replaced in place):
+    // the structure is built anew, never refitted.
+    const AccelUpdate u = updater.update(accel, *scene.scene, build);
+    EXPECT_EQ(u.what, instances ? "rebuild (new layout)" : "refit") << "frame " << f;
     auto rebuilt = test::buildKind(*scene.scene, kind);
     expectSameImage(scene, *accel, *rebuilt, o);
   }
@@ -113,22 +93,61 @@ TEST(Frames, RefitRendersWhatARebuildRendersOnTheSuite) {
 }
 
 TEST(Frames, KindsWithoutRefitRebuildAndStayCorrect) {
-  ProceduralScene p = makeProceduralScene("skinned", 0.05, 3);
-  ProceduralScene original = makeProceduralScene("skinned", 0.05, 3);
-  auto accel = test::buildKind(*p.scene, AccelKind::Stbvh);
-  MovedVertices moved;
-  moved.moveTo(*p.scene, *original.scene, 0.3f);
-  EXPECT_FALSE(accel->refit());  // rebuilt instead
-  auto brute = test::buildKind(*p.scene, AccelKind::Brute);
-  SceneDescription scene;
-  scene.scene = p.scene;
-  scene.camera.keys = {p.camera};
+  AnimationOptions ao;
+  ao.size = 0.05;
+  ao.seed = 3;
+  Animation animation("skinned", ao);
+  BuildOptions build;
+  build.kind = AccelKind::Stbvh;
+  AccelUpdater updater(UpdatePolicy::Refit);
+  std::unique_ptr<Accel> accel;
+  updater.update(accel, *animation.frame(0, FrameClock{}).scene, build);
+  const SceneDescription& scene = animation.frame(7, FrameClock{});
+  EXPECT_EQ(updater.update(accel, *scene.scene, build).what, "rebuild (kind cannot refit)");
+  auto brute = test::buildKind(*scene.scene, AccelKind::Brute);
   RenderOptions o;
   o.width = 32;
   o.height = 24;
   o.spp = 1;
   o.integrator = IntegratorKind::Normals;
   expectSameImage(scene, *accel, *brute, o);
+}
+
+// The library's frame renderer: a frame's picture is the render of that
+// frame's scene, whatever frames came before it.
+TEST(Frames, FrameRendererRendersEachFramesScene) {
+  AnimationOptions ao;
+  ao.size = 0.03;
+  Animation animation("skinned", ao);
+  FrameRenderOptions fo;
+  fo.render.width = 64;
+  fo.render.height = 48;
+  fo.render.spp = 1;
+  fo.render.integrator = IntegratorKind::Normals;
+  fo.build.kind = AccelKind::BvhInterp;
+  fo.policy = UpdatePolicy::Refit;
+  fo.threads = 2;
+  FrameRenderer renderer(animation, fo);
+  EXPECT_EQ(renderer.accel(), nullptr);
+  Animation reference("skinned", ao);  // its descriptions: each frame's scene made afresh
+  for (int64_t f : {3, 12, 21}) {
+    FrameRecord record;
+    const RenderResult r = renderer.render(f, record);
+    EXPECT_EQ(record.frame, f);
+    EXPECT_TRUE(record.complete);
+    EXPECT_EQ(record.update.what, f == 3 ? "build" : "refit");
+    EXPECT_GT(record.rays, 0u);
+    const SceneDescription scene = reference.describe(fo.clock.openAt(f), fo.clock.closeAt(f));
+    auto rebuilt = test::buildKind(*scene.scene, AccelKind::BvhInterp);
+    const RenderResult expected = render(scene, *rebuilt, fo.render);
+    size_t differing = 0;
+    for (int y = 0; y < fo.render.height; ++y)
+      for (int x = 0; x < fo.render.width; ++x)
+        differing += maxChannelDiff(r.image.at(x, y), expected.image.at(x, y)) > 1.0f / 255.0f ? 1 : 0;
+    EXPECT_LE(differing, 3u) << "frame " << f;  // ties (test_render.cpp's tolerance: 0.1%)
+  }
+  FrameRecord record;
+  EXPECT_THROW(renderer.render(24, record), Error);
 }
 
 // One picture split over processes (mpirun, tools/mpi_frames.h) renders

@@ -19,6 +19,7 @@
 #include "scene/primitive_bounds.h"
 #include "kd/kd_builder.h"
 #include "kd/kd_traverse.h"
+#include "leaves/reference_leaves.h"
 #include "mbrt/io/loaders.h"
 #include "mbrt/render.h"
 #include "mbrt/scenes.h"
@@ -226,7 +227,7 @@ Table1 table1(const Scene& scene, const char* name, size_t raysPerFrame, size_t 
       detail::RayQuery a(r), b(r);
       Hit ha, hb;
       st->intersectCounted(a, ha, fz);
-      detail::kdTraverse<false, true>(tree, ctx, prims.data(), b, &hb, &sk);
+      detail::kdTraverse<false, true>(tree, detail::ReferenceLeaves{}, ctx, prims.data(), b, &hb, &sk);
       ++rays;
       // Both trees hold the same primitives at this time: the same hit (or
       // a tie at the same t, on a shared edge).

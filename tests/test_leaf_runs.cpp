@@ -11,7 +11,7 @@
 #include <cstring>
 #include <random>
 
-#include "scene/leaf_intersect.h"
+#include "leaves/fixed_time_triangles.h"
 #include "leaf_test_grid.h"
 #include "scene/scene_context.h"
 #include "test_util.h"
@@ -44,12 +44,15 @@ void checkLeaves(const Scene& scene, float scale, bool stored) {
       found |= detail::intersectPrimitive(ctx, prims[i], one, expected);
       occluded = occluded || detail::occludedPrimitive(ctx, prims[i], ray);
     }
-    const detail::FixedTimeTriangles* source = stored ? &fixed : nullptr;
     const std::string what = "trial " + std::to_string(trial) + ", " + std::to_string(count) + " references";
-    ASSERT_EQ(detail::intersectLeaf<true>(ctx, prims, count, leaf, got, nullptr, source), found) << what;
+    const bool viaLeaf = stored ? detail::intersectLeaf(ctx, prims, count, leaf, got, nullptr, nullptr, nullptr, fixed)
+                                : detail::intersectLeaf(ctx, prims, count, leaf, got, nullptr);
+    ASSERT_EQ(viaLeaf, found) << what;
     EXPECT_TRUE(sameBits(leaf.tfar, one.tfar)) << what;
     if (found) expectSameHit(got, expected, what);
-    EXPECT_EQ(detail::occludedLeaf<true>(ctx, prims, count, anyRay, source), occluded) << what;
+    const bool anyLeaf = stored ? detail::occludedLeaf(ctx, prims, count, anyRay, nullptr, nullptr, fixed)
+                                : detail::occludedLeaf(ctx, prims, count, anyRay);
+    EXPECT_EQ(anyLeaf, occluded) << what;
     hits += found;
   }
   EXPECT_GT(hits, 2000);  // the rays aim at the leaf's triangles: most of them hit

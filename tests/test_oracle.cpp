@@ -27,8 +27,11 @@ std::vector<Case> allCases() {
       // varies linearly, not the hull of the end spheres that mbrt (and the
       // issue) define: scenes with segments differ slightly, so Embree is
       // compared on the triangle scenes here and on segments of equal radii
-      // in test_embree.cpp.
-      if (kind != AccelKind::Brute && !(kind == AccelKind::Embree && (scene == "hair" || scene == "demo")))
+      // in test_embree.cpp. On `ribbons` (thin ribbons whose edges the
+      // rays graze) Embree's own test misses hits that brute finds: it is
+      // judged against the float64 reference in test_embree_reference.cpp.
+      if (kind != AccelKind::Brute &&
+          !(kind == AccelKind::Embree && (scene == "hair" || scene == "demo" || scene == "ribbons")))
         cases.push_back({scene, kind});
   return cases;
 }
@@ -39,6 +42,7 @@ class Oracle : public ::testing::TestWithParam<Case> {};
 double testSize(const std::string& scene) {
   if (scene == "crowd") return 0.004;
   if (scene == "demo") return 1.0;
+  if (scene == "slide" || scene == "ribbons") return 0.1;  // 2k triangles
   return 0.006;
 }
 

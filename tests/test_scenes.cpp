@@ -74,7 +74,7 @@ Ray cameraRay(const CameraSpec& cam, float x, float y, float time) {
 TEST(Scenes, NamesInSuiteOrder) {
   EXPECT_EQ(proceduralSceneNames(),
             (std::vector<std::string>{"translate", "rotate", "crowd", "hairball", "hair", "deform", "skinned",
-                                      "demo"}));
+                                      "demo", "slide", "ribbons"}));
 }
 
 TEST(Scenes, EverySceneBuildsWithTheTableStepCounts) {
@@ -107,10 +107,10 @@ TEST(Scenes, EverySceneBuildsWithTheTableStepCounts) {
           EXPECT_EQ(s.geometry(i).timeRange(), (TimeRange{0.25f, 1.0f}));
         }
       EXPECT_EQ(partial, 1);
-    } else if (name == "hairball") {
+    } else if (name == "hairball" || name == "slide" || name == "ribbons") {
       ASSERT_EQ(s.numGeometries(), 1u);
       EXPECT_EQ(s.geometry(0).type(), GeometryType::Triangles);
-      EXPECT_EQ(s.geometry(0).numSteps(), 3u);
+      EXPECT_EQ(s.geometry(0).numSteps(), name == "hairball" ? 3u : 2u);
     } else if (name == "hair") {
       ASSERT_EQ(s.numGeometries(), 1u);
       EXPECT_EQ(s.geometry(0).type(), GeometryType::Segments);
@@ -162,7 +162,8 @@ TEST(Scenes, DefaultSizesMatchTheTable) {
       {"translate", {GeometryType::Triangles, 200000}}, {"rotate", {GeometryType::Triangles, 200000}},
       {"crowd", {GeometryType::Triangles, 100 * 4000 + 50000}}, {"hairball", {GeometryType::Triangles, 300000}},
       {"hair", {GeometryType::Segments, 200000}},          {"deform", {GeometryType::Triangles, 200000}},
-      {"skinned", {GeometryType::Triangles, 100000}}};
+      {"skinned", {GeometryType::Triangles, 100000}},      {"slide", {GeometryType::Triangles, 20000}},
+      {"ribbons", {GeometryType::Triangles, 20000}}};
   for (const auto& [name, expected] : table) {
     SCOPED_TRACE(name);
     const auto t0 = std::chrono::steady_clock::now();
@@ -203,8 +204,9 @@ TEST(Scenes, BadArgumentsThrow) {
 TEST(Scenes, CameraSeesTheScene) {
   for (const std::string& name : proceduralSceneNames()) {
     SCOPED_TRACE(name);
-    const bool thin = name == "hair" || name == "hairball";
-    ProceduralScene ps = makeProceduralScene(name, thin ? 0.05 : kSmall, 1);
+    const bool thin = name == "hair" || name == "hairball" || name == "ribbons";
+    // `ribbons` is 20k triangles at size 1, hairball's density at 0.07.
+    ProceduralScene ps = makeProceduralScene(name, name == "ribbons" ? 1.0 : thin ? 0.05 : kSmall, 1);
     BuildOptions opt;
     opt.kind = AccelKind::Brute;
     auto accel = Accel::build(*ps.scene, opt);

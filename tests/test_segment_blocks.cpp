@@ -1,5 +1,5 @@
 // The segment blocks of `frozen` (geometry/segment_block.h,
-// bvh/segment_leaf_blocks.h) against the one-by-one test: a lane the block
+// leaves/segment_blocks.h) against the one-by-one test: a lane the block
 // test leaves out must be one that intersectSegment misses at any distance
 // (the block only sorts out misses), on segments of every shape the scalar
 // test knows (cones, spheres, a zero radius at one end, a solid inside
@@ -15,7 +15,8 @@
 #include <algorithm>
 #include <random>
 
-#include "bvh/segment_leaf_blocks.h"
+#include "bvh/leaf_table.h"
+#include "leaves/segment_blocks.h"
 #include "leaf_test_grid.h"
 #include "oracle.h"
 #include "scene/scene_context.h"
@@ -184,19 +185,19 @@ TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
       bvh.nodes[0].child[0] = 0;
       bvh.prims = refs;
       while (bvh.prims.size() % 4 != 0) bvh.prims.push_back(refs.back());
-      const detail::SegmentLeafBlocks blocks(ctx, bvh, time);
-      const detail::SegmentLeafBlock* b = blocks.of(0);
-      ASSERT_NE(b, nullptr);
+      const detail::SegmentBlockLeaves blocks(ctx, detail::leafTable(bvh, time));
+      ASSERT_NE(blocks.blocksOf(0), nullptr);
       const detail::RayQuery ray = rayAtOneOf(rng, ctx, refs, time, trial);
       const test::OneByOne reference = test::oneByOne(ctx, refs, ray);
       const std::string what = "steps " + std::to_string(steps) + ", trial " + std::to_string(trial);
       detail::RayQuery blocked = ray, anyBlocked = ray;
       Hit got;
-      const detail::SegmentBlockRay<4> r(ray);
-      ASSERT_EQ(detail::leaf_block::intersectSegmentBlocks(b, count, blocked, r, got), reference.found) << what;
+      const detail::LeafBlockRay r(ray);
+      const detail::LeafRefs leaf{bvh.prims.data(), count, 0};
+      ASSERT_EQ((blocks.test<false, false>(ctx, leaf, blocked, r, &got, nullptr)), reference.found) << what;
       EXPECT_TRUE(sameBits(blocked.tfar, reference.ray.tfar)) << what;
       if (reference.found) expectSameHit(got, reference.hit, what);
-      EXPECT_EQ(detail::leaf_block::occludedSegmentBlocks(b, count, anyBlocked, r), reference.occluded) << what;
+      EXPECT_EQ((blocks.test<true, false>(ctx, leaf, anyBlocked, r, nullptr, nullptr)), reference.occluded) << what;
       hits += reference.found;
     }
     EXPECT_GT(hits, 800);
@@ -204,7 +205,7 @@ TEST(SegmentBlocks, BlockedLeavesAgreeWithTheOneByOneTest) {
 }
 
 // Runs of segments gathered into blocks at the ray's time through their
-// vertex indices (leaf_block::testGathered, what the motion trees' and the
+// vertex indices (leaves/gathered_runs.h, what the motion trees' and the
 // kd kinds' leaves do): leaves of 1 to 13 references of up to three
 // strand geometries of 1 or 3 steps (one a copy of another: ties), at
 // random times and on the steps, through intersectLeaf and occludedLeaf
@@ -231,15 +232,14 @@ TEST(SegmentBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
       Hit got, runHit;
       TraversalCounters c;
       const detail::LeafBlockRay r(ray);
-      ASSERT_EQ(detail::intersectLeaf(ctx, refs.data(), count, viaBlocks, got, &c, nullptr, &r), reference.found)
-          << what;
+      ASSERT_EQ(detail::intersectLeaf(ctx, refs.data(), count, viaBlocks, got, &c, &r), reference.found) << what;
       ASSERT_EQ(detail::intersectLeaf(ctx, refs.data(), count, viaRuns, runHit, nullptr), reference.found) << what;
       EXPECT_TRUE(sameBits(viaBlocks.tfar, reference.ray.tfar)) << what;
       if (reference.found) {
         expectSameHit(got, reference.hit, what);
         expectSameHit(got, runHit, what);
       }
-      EXPECT_EQ(detail::occludedLeaf(ctx, refs.data(), count, anyBlocks, nullptr, &r), reference.occluded) << what;
+      EXPECT_EQ(detail::occludedLeaf(ctx, refs.data(), count, anyBlocks, &r), reference.occluded) << what;
       hits += reference.found;
       gathered += c.blockPrimitiveTests > 0;
     }

@@ -10,6 +10,7 @@
 
 #include "bvh/heuristics/binned_sah.h"
 #include "bvh/kinds/bvh_structure.h"
+#include "bvh/kinds/stbvh_tuning.h"
 #include "bvh/inspect.h"
 #include "bvh/heuristics/temporal_split.h"
 #include "accel/structure_factory.h"
@@ -274,7 +275,7 @@ TEST(Stbvh, BeatsInterpOnRotation) {
 // of a wide node get the split leaves, so 8-wide nodes are nearly full where
 // they were half empty (hairball: 4.4 lanes per inner node for stbvh, 3.6
 // for bvh-interp before filling). With leaf blocks of four (the motion
-// kinds' default on triangles, leaf_blocks.h) leaves of four or fewer are
+// kinds' default on triangles, leaves/leaf_width.h) leaves of four or fewer are
 // not split, so a node keeps spare lanes only when all its lanes are such
 // leaves. `stbvh` is checked on `hair` (segments: per-reference leaves).
 TEST(Stbvh, WideNodesAreFilled) {
@@ -294,7 +295,7 @@ TEST(Stbvh, WideNodesAreFilled) {
   const std::vector<detail::PrimRef> prims = ctx.primitives();
   for (int leafBlock : {1, 4}) {
     detail::WideBvh<8, true> bvh;
-    detail::buildWideBvh(ctx, prims, detail::ShutterRefs(ctx), bvh, nullptr, true, leafBlock);
+    detail::buildWideBvh(ctx, prims, detail::ShutterRefs(ctx), bvh, {.leafBlock = leafBlock});
     size_t inner = 0, lanes = 0, spareWithSplittable = 0;
     for (const auto& node : bvh.nodes) {
       int used = 0;
@@ -332,7 +333,9 @@ TEST(Stbvh, ReusedTemporalSplitsGiveTheSameTrees) {
     std::vector<uint8_t> bytes[2];
     for (int reuse = 0; reuse < 2; ++reuse) {
       detail::WideBvh<8, true> bvh;
-      detail::buildWideBvh(ctx, prims, detail::ShutterRefs(ctx), bvh, &timing, reuse == 1);
+      detail::WideBuildTuning tuning = detail::stbvhTuning(timing, 1);
+      tuning.reuseTriedTemporalSplits = reuse == 1;
+      detail::buildWideBvh(ctx, prims, detail::ShutterRefs(ctx), bvh, tuning);
       ASSERT_GT(bvh.times.size(), 0u) << name << ": no temporal split to check";
       detail::appendBytes(bvh, bytes[reuse]);
     }

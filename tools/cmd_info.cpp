@@ -9,7 +9,6 @@
 #include <string>
 
 #include "commands.h"
-#include "frame_source.h"
 #include "mbrt/io/gltf.h"
 #include "mbrt/io/mesh_files.h"
 #include "scene_loading.h"
@@ -90,7 +89,7 @@ void registerInfoCommand(CLI::App& app) {
   cmd->callback([args] {
     resolveScene(*args);
     std::printf("input     %s\n", args->scene.c_str());
-    if (isGltfSpec(args->scene) && !isObjSequenceSpec(args->scene)) printGltf(args->scene, args->fps);
+    if (isGltfFile(args->scene)) printGltf(args->scene, args->fps);
     LoadReport report;
     const LoadedScene loaded = loadScene(*args, &report);
     if (isObjSequenceSpec(args->scene)) {

@@ -84,7 +84,7 @@ void checkAccelKinds(const RenderArgs& args, IntegratorKind integrator) {
 }
 
 // The part of the normalized shutter the camera sees. --shutter is in
-// seconds of the input's timeline (frame_source.h): for glTF and JSON files
+// seconds of the input's timeline (mbrt/io/animation.h): for glTF and JSON files
 // the loader samples it; for an OBJ sequence (key k at k / fps s) it is
 // scaled to the sequence once its keys are known (sequenceShutter); for the
 // others (one second of motion) it is the normalized part as it is.
@@ -257,7 +257,7 @@ void runSequence(RenderArgs& args) {
   job.camera = cameraOverrides(args.sequence, args.aperture, args.focus);
   job.clock.fps = args.scene.fps;
   job.clock.shutterAngleDegrees = args.sequence.shutterAngle;
-  job.policy = *parseUpdatePolicy(args.sequence.update);
+  job.policy = *parseUpdatePolicy(args.sequence.update);  // checked by CLI11
   job.rebuildFactor = args.sequence.rebuildFactor;
   job.threads = args.threads;
   job.stage = args.stage;

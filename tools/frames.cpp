@@ -62,7 +62,7 @@ class FrameBar {
     bar.resize(kWidth, '.');
     const double left = done > 0 ? seconds / double(done) * double(total_ - done) : 0.0;
     std::fprintf(stderr, "\r[%s] %zu/%zu frames  update %.1f ms  render %.2f s  %s left   ", bar.c_str(), done,
-                 total_, last.updateSeconds * 1e3, last.renderSeconds, formatSeconds(left).c_str());
+                 total_, last.update.seconds * 1e3, last.renderSeconds, formatSeconds(left).c_str());
     std::fflush(stderr);
     drawn_ = true;
   }
@@ -202,7 +202,7 @@ void printFrameLine(const FrameRecord& r, const std::string& path, int rank) {
   char who[32] = "";
   if (rank >= 0) std::snprintf(who, sizeof who, "  rank %d", rank);
   std::printf("frame %6lld  scene %8.2f ms  %-27s %8.2f ms  render %7.3f s  %s%s\n", (long long)r.frame,
-              r.sceneSeconds * 1e3, r.update.c_str(), r.updateSeconds * 1e3, r.renderSeconds, path.c_str(), who);
+              r.sceneSeconds * 1e3, r.update.what.c_str(), r.update.seconds * 1e3, r.renderSeconds, path.c_str(), who);
   std::fflush(stdout);
 }
 
@@ -210,7 +210,7 @@ void printSummary(const std::vector<FrameRecord>& records, size_t skipped, doubl
   Spread scene, refit, rebuild, render;
   for (const FrameRecord& r : records) {
     scene.add(r.sceneSeconds);
-    (r.refitted ? refit : rebuild).add(r.updateSeconds);
+    (r.update.refitted ? refit : rebuild).add(r.update.seconds);
     render.add(r.renderSeconds);
   }
   std::printf("summary %zu frames rendered, %zu skipped (--resume), %.3f s, %.3f frames/s, %d worker%s\n",
@@ -270,12 +270,11 @@ void runFrameSequence(const FrameJob& job, const std::vector<int64_t>& frames, c
   checkFrameOutputs(job, frames, out);
   if (mpiWorldSize() > 1) return runFramesMpi(job, frames, out);
   const StopSignalGuard guard;
-  FrameRenderer renderer(job, &gStopRequested);
+  SequenceRenderer renderer(job, &gStopRequested);
   for (int64_t f : frames) renderer.checkFrame(f);
   std::printf("frames  %zu of %s (%s, %g fps, %g degree shutter), update %s\n", frames.size(),
               job.scene.scene.c_str(), renderer.timeline().what.c_str(), job.clock.fps,
-              job.clock.shutterAngleDegrees, job.policy == UpdatePolicy::Auto ? "auto" :
-              job.policy == UpdatePolicy::Refit ? "refit" : "rebuild");
+              job.clock.shutterAngleDegrees, std::string(toString(job.policy)).c_str());
   const std::vector<int64_t> todo = framesToRender(frames, out);
   const auto start = std::chrono::steady_clock::now();
   std::vector<FrameRecord> records;

@@ -82,7 +82,7 @@ struct Report {
   int32_t width = 0, height = 0, refitted = 0;
   double scene = 0.0, update = 0.0, render = 0.0;
   uint64_t rays = 0;
-  char updateKind[48] = {};
+  char updateKind[160] = {};  // as MBRTAccelUpdate::what
   char error[256] = {};
 };
 
@@ -95,16 +95,16 @@ FrameRecord recordOf(const Report& r) {
   FrameRecord rec;
   rec.frame = r.frame;
   rec.sceneSeconds = r.scene;
-  rec.updateSeconds = r.update;
+  rec.update.seconds = r.update;
   rec.renderSeconds = r.render;
   rec.rays = r.rays;
-  rec.refitted = r.refitted != 0;
-  rec.update = r.updateKind;
+  rec.update.refitted = r.refitted != 0;
+  rec.update.what = r.updateKind;
   return rec;
 }
 
 // Renders one frame into a report (never throws: a failure is reported).
-Report renderInto(FrameRenderer& renderer, int64_t frame, Image& image) {
+Report renderInto(SequenceRenderer& renderer, int64_t frame, Image& image) {
   Report r;
   r.frame = frame;
   try {
@@ -113,12 +113,12 @@ Report renderInto(FrameRenderer& renderer, int64_t frame, Image& image) {
     r.status = rec.complete ? Report::Rendered : Report::Stopped;
     r.width = result.image.width();
     r.height = result.image.height();
-    r.refitted = rec.refitted;
+    r.refitted = rec.update.refitted;
     r.scene = rec.sceneSeconds;
-    r.update = rec.updateSeconds;
+    r.update = rec.update.seconds;
     r.render = rec.renderSeconds;
     r.rays = rec.rays;
-    copyText(r.updateKind, sizeof r.updateKind, rec.update);
+    copyText(r.updateKind, sizeof r.updateKind, rec.update.what);
     image = std::move(result.image);
   } catch (const std::exception& e) {
     r.status = Report::Failed;
@@ -241,10 +241,10 @@ void startTogether(const std::function<void()>& setup) {
 
 void runFramesMpi(const FrameJob& job, const std::vector<int64_t>& frames, const FrameOutput& out) {
   const StopSignalGuard guard;
-  std::unique_ptr<FrameRenderer> renderer;
+  std::unique_ptr<SequenceRenderer> renderer;
   startTogether([&] {
     checkFrameOutputs(job, frames, out);
-    renderer = std::make_unique<FrameRenderer>(job, &gStopRequested);
+    renderer = std::make_unique<SequenceRenderer>(job, &gStopRequested);
     for (int64_t f : frames) renderer->checkFrame(f);
   });
   const Work work = [&](int64_t f, Image& image) { return renderInto(*renderer, f, image); };

@@ -227,7 +227,9 @@ void resolveScene(SceneArgs& args) {
     refuse("--seed", "built-in scenes here (this command makes no random rays)");
 }
 
-LoadedScene loadScene(SceneArgs& args, LoadReport* reportOut) {
+bool isGltfFile(const std::string& spec) { return formOf(spec) == InputForm::Gltf; }
+
+LoadOptions loadOptions(SceneArgs& args) {
   resolveScene(args);
   LoadOptions opt;
   opt.size = args.size;
@@ -267,6 +269,11 @@ LoadedScene loadScene(SceneArgs& args, LoadReport* reportOut) {
   if (!known)
     throw UsageError("unknown scene '" + args.scene + "': not a built-in scene (" + joinNames(names) +
                      ") nor a file, folder or glob");
+  return opt;
+}
+
+LoadedScene loadScene(SceneArgs& args, LoadReport* reportOut) {
+  const LoadOptions opt = loadOptions(args);
   LoadReport report;
   const auto start = std::chrono::steady_clock::now();
   LoadedScene out = loadSceneSpec(args.scene, opt, &report);

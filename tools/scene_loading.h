@@ -11,6 +11,7 @@
 
 #include "mbrt/accel.h"
 #include "mbrt/io/gltf.h"
+#include "mbrt/io/loaders.h"
 #include "mbrt/io/scene_description.h"
 #include "mbrt/scenes.h"
 
@@ -55,7 +56,7 @@ struct SceneArgs {
   double size = 1.0;
   uint64_t seed = 1;
   std::string clip;     // glTF animation clip (name or index)
-  std::string shutter;  // "A,B" in seconds of the input's timeline (frame_source.h)
+  std::string shutter;  // "A,B" in seconds of the input's timeline (mbrt/io/animation.h)
   std::string steps = "auto";  // N or auto
   double fps = 24.0;
   std::string motion;   // procedural motion of a static mesh
@@ -99,6 +100,12 @@ void resolveScene(SceneArgs& args);
 std::string accelKindList();
 // kDefaultAccelKind when this build has it, otherwise brute.
 AccelKind defaultAccelKind();
+
+// The loader's options of the scene options: runs resolveScene first;
+// UsageError for an unknown scene name and bad --shutter, --steps, --motion.
+LoadOptions loadOptions(SceneArgs& args);
+// Whether `spec` names a glTF file (not a folder or glob).
+bool isGltfFile(const std::string& spec);
 
 // Throws UsageError for an unknown scene name or bad options, Error for a
 // bad file. Runs resolveScene first. `report`: what the loader chose.

@@ -87,6 +87,9 @@ class Accel {
   const BuildOptions& options() const { return options_; }
   // Throws Error when the scene was destroyed or moved (see Lifetime).
   const Scene& scene() const;
+  // False once the scene was destroyed, moved from or assigned to since the
+  // build (every other call then throws).
+  bool sceneAlive() const { return !sceneLifetime_.expired(); }
 
  private:
   Accel(const Scene& scene, const BuildOptions& options);

@@ -30,14 +30,16 @@ struct AccelStats {
   std::string update;
 };
 
-// Per-ray work, for the papers' metrics (DESIGN.md): nodes visited, box tests
-// (an 8-wide node is 8) and ray-primitive tests; of those, the ones made in
-// a leaf block (several triangles against the ray at once, in SIMD lanes),
-// which cost a fraction of a test made one triangle at a time.
+// Per-ray work, for the papers' metrics: nodes visited, box tests (an
+// 8-wide node is 8), leaves visited (a non-empty leaf the ray entered) and
+// ray-primitive tests; of those, the ones made in a leaf block (several
+// triangles against the ray at once, in SIMD lanes), which cost a fraction
+// of a test made one triangle at a time.
 struct TraversalCounters {
   uint64_t rays = 0;
   uint64_t nodesVisited = 0;
   uint64_t boxTests = 0;
+  uint64_t leavesVisited = 0;
   uint64_t primitiveTests = 0;
   uint64_t blockPrimitiveTests = 0;  // part of primitiveTests
   uint64_t maxNodesVisited = 0;

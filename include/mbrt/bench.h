@@ -188,6 +188,13 @@ struct RaySets {
 RaySets makeRaySets(const ProceduralScene& scene, const Target& reference, int width, int height, uint64_t seed,
                     const std::vector<float>& frozenTimes, bool secondaryOnly = false);
 
+// n incoherent rays from all around `scene` (a sphere of its bounds'
+// diagonal) towards points on its primitives at random times: nearly all
+// hit, none shares a path with the next (src/bench/incoherent_rays.cpp).
+// With `time`, every ray is at that time (a static tree's rays).
+// Deterministic for a seed.
+std::vector<Ray> incoherentRays(const Scene& scene, size_t n, uint64_t seed, std::optional<float> time = {});
+
 // `mbrt bench --scaling`: scenes at several sizes, each structure's build
 // time, memory and secondary rays/s against the primitive count.
 struct ScalingOptions {

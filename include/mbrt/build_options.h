@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -59,5 +60,14 @@ struct BuildOptions {
   // only on the scene and these options.
   bool autoConfirmByTrace = true;
 };
+
+// The one spelling of the Embree modes: "robust", "default", "static",
+// "static-robust" (Python's embree_mode, the command's and the bench's).
+std::string_view toString(BuildOptions::EmbreeMode mode);
+std::optional<BuildOptions::EmbreeMode> parseEmbreeMode(std::string_view name);
+// A row of Embree in the bench: "embree" (its default mode, what its users
+// run), "embree-robust", "embree-static", "embree-static-robust"; and back.
+std::string embreeRowName(BuildOptions::EmbreeMode mode);
+std::optional<BuildOptions::EmbreeMode> parseEmbreeRow(std::string_view row);
 
 }  // namespace mbrt

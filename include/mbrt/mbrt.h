@@ -74,6 +74,7 @@ extern "C" {
 typedef struct MBRTDeviceT* MBRTDevice;
 typedef struct MBRTSceneT* MBRTScene;
 typedef struct MBRTAccelT* MBRTAccel;
+typedef struct MBRTAnimationT* MBRTAnimation;
 
 typedef enum MBRTError {
   MBRT_ERROR_NONE = 0,
@@ -266,6 +267,91 @@ typedef struct MBRTHitSoA {
  * (and hits). Returns 1 on success, 0 on error (nothing is written then). */
 MBRT_API int mbrtIntersectSoA(MBRTAccel accel, const MBRTRaySoA* rays, const MBRTHitSoA* hits, size_t count);
 MBRT_API int mbrtOccludedSoA(MBRTAccel accel, const MBRTRaySoA* rays, uint8_t* occluded, size_t count);
+
+/* ---- animations ------------------------------------------------------------ */
+/* An input over its timeline in seconds, loaded once (a glTF file is read
+ * and its textures decoded once), and its scene frame by frame: the
+ * animation's scene (mbrtGetAnimationScene) is sampled over each frame's
+ * shutter, its motion normalized to [0,1], and updated in place. Accels are
+ * built on it with mbrtNewAccel and follow it with mbrtUpdateAccel after
+ * every mbrtSetAnimationFrame; until then tracing them is refused
+ * (MBRT_ERROR_INVALID_OPERATION). The scene belongs to the animation: it is
+ * released with it, and adding geometry to it, setting its masks or
+ * filters, releasing it or instancing it is refused. Timelines (seconds):
+ * a glTF clip's own (a file without a clip: [0, INFINITY), static); an OBJ
+ * keyframe sequence's key k at k / keysPerSecond; a built-in scene's or a
+ * mesh's motion over [0, 1]. docs/c-api.md, "Animations". */
+
+/* mbrtDefaultAnimationOptions fills the defaults. */
+typedef struct MBRTAnimationOptions {
+  const char* clip;      /* glTF: the animation by name or index; NULL or "": the first */
+  uint32_t steps;        /* glTF: time steps per moving mesh or instance; 0: automatic */
+  double keysPerSecond;  /* OBJ sequences: key k at k / keysPerSecond seconds (24) */
+  const char* motion;    /* a static .obj/.ply mesh's procedural motion, e.g. "rotate:90"; NULL: none */
+  double size;           /* built-in scenes: size factor (1) */
+  uint64_t seed;         /* built-in scenes (1) */
+  int stage;             /* nonzero: a loaded model stands on a ground plane (geometry after its own) */
+} MBRTAnimationOptions;
+
+/* How mbrtUpdateAccel follows the scene: REFIT refits where the kind can
+ * (bvh-interp, msbvh) and rebuilds elsewhere; REBUILD rebuilds every frame;
+ * AUTO refits until the SAH cost grows past rebuildFactor times the cost
+ * right after the last rebuild, then rebuilds. */
+typedef enum MBRTUpdatePolicy {
+  MBRT_UPDATE_AUTO = 0,
+  MBRT_UPDATE_REFIT = 1,
+  MBRT_UPDATE_REBUILD = 2,
+  MBRT_UPDATE_POLICY_MAX = 0x7FFFFFFF /* not a policy: keeps every int a value of the type (others are refused) */
+} MBRTUpdatePolicy;
+
+/* What one mbrtUpdateAccel did. */
+typedef struct MBRTAccelUpdate {
+  char what[160]; /* "build", "refit", "rebuild", "rebuild (kind cannot refit)", "rebuild (SAH x1.62)",
+                      "rebuild (new layout)", or auto's summary of its refit ("refit: 2 instances' keys,
+                      1 tree refitted (msbvh)"); NUL-terminated, cut at 159 bytes */
+  int refitted;    /* 1 when the tree was refitted and kept */
+  double seconds;  /* the refit or (re)build */
+  double sahCost;  /* after the update (MBRT_UPDATE_AUTO only; 0 otherwise) */
+} MBRTAccelUpdate;
+
+MBRT_API void mbrtDefaultAnimationOptions(MBRTAnimationOptions* options);
+/* Loads a .gltf/.glb file (options->clip), an OBJ keyframe sequence (a
+ * folder, or a pattern with * ? [), a built-in scene name or an .obj/.ply
+ * mesh (options->motion); options NULL: the defaults. A JSON scene file, an
+ * unknown name, a missing or bad file is MBRT_ERROR_INVALID_ARGUMENT, with
+ * the loader's message. The scene is empty until the first frame. */
+MBRT_API MBRTAnimation mbrtNewAnimation(MBRTDevice device, const char* input, const MBRTAnimationOptions* options);
+/* Refused (MBRT_ERROR_INVALID_OPERATION) while accels built on its scene live. */
+MBRT_API void mbrtReleaseAnimation(MBRTAnimation animation);
+/* The timeline in seconds (*end is INFINITY without a clip). Returns 1, 0 on error. */
+MBRT_API int mbrtGetAnimationTimeline(MBRTAnimation animation, double* start, double* end);
+/* The frames whose shutters lie in the timeline at fps frames per second
+ * and a shutter of shutterAngleDegrees / 360 of a frame: *first, *first + 1,
+ * ..., *first + *count - 1 (*count is INT64_MAX without a clip). Frame f's
+ * shutter opens at f / fps seconds. Returns 1, 0 on error (fps <= 0, an
+ * angle outside [0, 360]). */
+MBRT_API int mbrtGetAnimationFrames(MBRTAnimation animation, double fps, double shutterAngleDegrees, int64_t* first,
+                                    int64_t* count);
+/* The animation's scene: the same handle for every frame. */
+MBRT_API MBRTScene mbrtGetAnimationScene(MBRTAnimation animation);
+/* Samples the scene over frame `frame`'s shutter (open at frame / fps
+ * seconds, for shutterAngleDegrees / 360 of a frame). Returns 1 when the
+ * scene kept its layout (the same geometries, primitive counts, steps and
+ * masks, no instances: its vertices were replaced, and accels can refit), 2
+ * when its geometries were replaced (accels are built anew by
+ * mbrtUpdateAccel), 0 on error: a frame whose shutter lies outside the
+ * timeline (the message names the frames it allows), a bad clock. */
+MBRT_API int mbrtSetAnimationFrame(MBRTAnimation animation, int64_t frame, double fps, double shutterAngleDegrees);
+/* The same over the shutter [open, close] seconds of the timeline. */
+MBRT_API int mbrtSetAnimationShutter(MBRTAnimation animation, double open, double close);
+/* Brings an accel up to date with its scene after the scene changed: built
+ * anew (with its kind and options) when the scene's geometries were
+ * replaced, otherwise refitted or rebuilt by the policy (rebuildFactor >= 1:
+ * AUTO's limit, 1.5 is mbrt's default). *update (when not NULL) says what
+ * was done. Returns 1, 0 on error (the accel is then without a structure:
+ * tracing it is refused until an update succeeds). */
+MBRT_API int mbrtUpdateAccel(MBRTAccel accel, MBRTUpdatePolicy policy, double rebuildFactor,
+                             MBRTAccelUpdate* update);
 
 #ifdef __cplusplus
 }

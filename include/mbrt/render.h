@@ -52,7 +52,7 @@ struct RenderOptions {
   size_t tileBegin = 0, tileEnd = SIZE_MAX;
   // Ambient occlusion.
   int aoSamples = 2;            // occlusion rays per camera sample
-  float aoDistance = 0.0f;      // occlusion ray length; 0: 20% of the scene's diagonal
+  float aoDistance = 0.0f;      // occlusion ray length; 0: 5% of the scene's diagonal
   // Path tracing.
   int maxDepth = 4;             // diffuse bounces after the primary hit
   // Heat maps: the value shown at the top of the colour map; 0 picks the

@@ -21,7 +21,8 @@ struct ProceduralScene {
 };
 
 // Names of the built-in scenes, in suite order:
-// translate, rotate, crowd, hairball, hair, deform, skinned, demo.
+// translate, rotate, crowd, hairball, hair, deform, skinned, demo, slide,
+// ribbons (the last two: the simplest motion, 2 time steps).
 std::vector<std::string> proceduralSceneNames();
 
 // Builds a built-in scene. Throws Error for an unknown name or size <= 0.

@@ -10,6 +10,13 @@ BVHs with linear bounds, Embree as a peer) behind one class, ``Accel``::
     hits = accel.intersect(rays)               # rays: (N, 9) float32, as a ray file
     hits.t, hits.geom_id, hits.prim_id, hits.u, hits.v, hits.ng
 
+An input over its timeline, frame by frame, each frame's scene updated in
+place and an accel refitted or rebuilt to follow it::
+
+    doc = mbrt.load("CesiumMan.glb")           # read once; a Scene over one shutter
+    for frame in doc.frames(fps=24, accel="bvh-interp", update="auto"):
+        image = mbrt.render(frame.scene, frame.accel)
+
 Tracing releases the GIL and uses every core (TBB). Errors raise
 ``mbrt.Error`` with the library's message. See docs/python.md.
 """
@@ -17,12 +24,13 @@ from __future__ import annotations
 
 import numpy as _np
 
-from ._mbrt import Accel, Error, Hits, Scene, __version__, bench, kinds, load, render
+from ._mbrt import (Accel, Document, Error, Frame, Frames, Hits, Scene, Timeline, __version__, bench, kinds, load,
+                    render)
 from . import scenes
 
 __all__ = [
-    "Accel", "Error", "Hits", "Scene", "__version__", "bench", "kinds", "load", "render", "scenes",
-    "read_rays", "write_rays", "RAY_FIELDS",
+    "Accel", "Document", "Error", "Frame", "Frames", "Hits", "Scene", "Timeline", "__version__", "bench", "kinds",
+    "load", "render", "scenes", "read_rays", "write_rays", "RAY_FIELDS",
 ]
 
 #: The columns of an (N, 9) ray array, as in a ray file (include/mbrt/io/ray_file.h).

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from types import ModuleType
-from typing import Any, Optional, Sequence, Tuple, Union
+from typing import Any, Iterable, Iterator, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -89,8 +89,41 @@ class Accel:
     @property
     def scene(self) -> Scene: ...
 
+class Timeline:
+    """An input's timeline in seconds (end is inf for a glTF file without a clip)."""
+
+    start: float
+    end: float
+    what: str
+
+class Frame:
+    """One frame of Document.frames()."""
+
+    index: int
+    shutter: Tuple[float, float]  # seconds of the timeline
+    scene: Scene  # the frames' scene: the same object every frame, updated in place
+    accel: Optional[Accel]  # the accel following the frames (the same object), or None
+    update: Optional[dict[str, Any]]  # what, refitted, seconds, sah_cost
+    scene_seconds: float
+    change: str  # "vertices" (replaced in place) or "layout" (geometries replaced)
+
+class Frames(Iterator[Frame]):
+    def __iter__(self) -> Frames: ...
+    def __next__(self) -> Frame: ...
+    def __len__(self) -> int: ...
+
+class Document(Scene):
+    """What load() returns: a Scene over one shutter, with the input's timeline and frames."""
+
+    @property
+    def timeline(self) -> Timeline: ...
+    def frame_range(self, *, fps: float = 24.0, shutter_angle: float = 180.0) -> range: ...
+    def frames(self, *, fps: float = 24.0, shutter_angle: float = 180.0, frames: Optional[Iterable[int]] = None,
+               accel: Optional[str] = None, update: str = "auto", rebuild_factor: float = 1.5) -> Frames: ...
+
 def load(path: str, *, shutter: Optional[Tuple[float, float]] = None, steps: Union[None, int, str] = None,
-         clip: str = "", fps: float = 24.0, motion: str = "", size: float = 1.0, seed: int = 1) -> Scene: ...
+         clip: str = "", fps: float = 24.0, motion: str = "", size: float = 1.0, seed: int = 1,
+         stage: bool = False) -> Document: ...
 
 def render(scene: Scene, accel: Optional[Accel] = None, *, width: int = 640, height: int = 360, spp: int = 16,
            integrator: str = "ao", shutter: Tuple[float, float] = (0.0, 1.0), seed: int = 1,

@@ -1,5 +1,5 @@
 """The built-in procedural scene suite (translate, rotate, crowd, hairball,
-hair, deform, skinned, demo): deterministic for a seed, with a size knob
+hair, deform, skinned, demo, slide, ribbons): deterministic for a seed, with a size knob
 (size 1 gives the suite's default sizes; tests use small ones)."""
 from __future__ import annotations
 

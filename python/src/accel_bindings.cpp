@@ -181,7 +181,7 @@ py::object intersect(const PyAccel& self, const py::object& rays, const py::obje
     py::gil_scoped_release nogil;
     std::shared_lock lock(sceneLock());
     self.checkCurrent();
-    const Accel& accel = *self.accel;
+    const Accel& accel = self.get();
     parallelOverRays(in.count, [&](size_t i) {
       Hit hit;
       accel.intersect(in.ray(i), hit);
@@ -204,7 +204,7 @@ py::array_t<bool> occluded(const PyAccel& self, const py::object& rays, const py
     py::gil_scoped_release nogil;
     std::shared_lock lock(sceneLock());
     self.checkCurrent();
-    const Accel& accel = *self.accel;
+    const Accel& accel = self.get();
     parallelOverRays(in.count, [&](size_t i) { o[i] = accel.occluded(in.ray(i)); });
   }
   return out;
@@ -337,10 +337,10 @@ tracing raise mbrt.Error until rebuild().)doc")
            "tnear"_a = py::none(), "tfar"_a = py::none(), "time"_a = py::none(), "mask"_a = py::none(),
            occludedDoc.c_str())
       .def(
-          "rebuild", [](PyAccel& self) { exclusive(self, [&] { self.accel->rebuild(); return true; }); },
+          "rebuild", [](PyAccel& self) { exclusive(self, [&] { self.get().rebuild(); return true; }); },
           "Rebuilds from the scene (after its arrays changed in place or geometry was added).")
       .def(
-          "refit", [](PyAccel& self) { return exclusive(self, [&] { return self.accel->refit(); }); },
+          "refit", [](PyAccel& self) { return exclusive(self, [&] { return self.get().refit(); }); },
           "Updates bounds keeping the topology where the kind can (returns True), else rebuilds (False).")
       .def(
           "stats",
@@ -349,16 +349,16 @@ tracing raise mbrt.Error until rebuild().)doc")
             {
               py::gil_scoped_release nogil;
               std::shared_lock lock(sceneLock());
-              s = self.accel->stats();
+              s = self.get().stats();
             }
             return statsDict(s);
           },
           "Structure statistics as a dict: kind, primitives, references, inner_nodes, leaf_nodes, max_depth,\n"
           "bytes, peak_build_bytes, sah_cost, build_seconds, invalid_rays.")
-      .def_property_readonly("kind", [](const PyAccel& self) { return std::string(toString(self.accel->options().kind)); })
+      .def_property_readonly("kind", [](const PyAccel& self) { return std::string(toString(self.get().options().kind)); })
       .def_property_readonly("scene", [](const PyAccel& self) { return self.scene; })
       .def("__repr__", [](const PyAccel& self) {
-        return "<mbrt.Accel " + std::string(toString(self.accel->options().kind)) + " over '" +
+        return "<mbrt.Accel " + std::string(toString(self.get().options().kind)) + " over '" +
                self.scene->description->name + "'>";
       });
 }

@@ -50,10 +50,13 @@ uint64_t deepVersion(const Scene& scene);
 
 struct PyAccel {
   std::shared_ptr<PyScene> scene;
-  std::unique_ptr<Accel> accel;
-  uint64_t builtVersion = 0;  // deepVersion(scene) at the last build
+  std::unique_ptr<Accel> accel;  // null after a frame's update failed (Document.frames)
+  uint64_t builtVersion = 0;     // deepVersion(scene) at the last build
 
-  // Throws Error when the scene gained geometry since the build.
+  // The structure; throws Error when a frame's update left it without one.
+  Accel& get() const;
+  // Throws Error when the scene gained geometry since the build (or moved
+  // on to another frame since the last update).
   void checkCurrent() const;
 };
 
@@ -62,7 +65,8 @@ struct PyAccel {
 
 void bindScene(py::module_& m);
 void bindAccel(py::module_& m);
-void bindLoaders(py::module_& m);  // load, scenes.make, scenes.names
+void bindLoaders(py::module_& m);  // scenes.make, scenes.names
+void bindAnimation(py::module_& m);  // load, Document, Timeline, Frame
 void bindRender(py::module_& m);
 void bindBench(py::module_& m);
 

@@ -1,4 +1,4 @@
-// mbrt.load, mbrt.scenes, mbrt.render and mbrt.bench.
+// mbrt.scenes, mbrt.render and mbrt.bench.
 #include <mutex>
 
 #include "bindings.h"
@@ -16,30 +16,6 @@ std::shared_ptr<PyScene> wrap(SceneDescription description) {
   auto s = std::make_shared<PyScene>();
   s->description = std::make_shared<SceneDescription>(std::move(description));
   return s;
-}
-
-std::shared_ptr<PyScene> load(const std::string& path, const py::object& shutter, const py::object& steps,
-                              const std::string& clip, double fps, const std::string& motion, double size,
-                              uint64_t seed) {
-  LoadOptions o;
-  o.gltf.clip = clip;
-  o.gltf.fps = fps;
-  o.motion = motion;
-  o.size = size;
-  o.seed = seed;
-  if (!shutter.is_none()) {
-    const auto range = shutter.cast<std::pair<double, double>>();
-    if (!(range.first <= range.second)) fail("load: shutter must be (open, close) with open <= close (seconds)");
-    o.gltf.shutterOpen = range.first;
-    o.gltf.shutterClose = range.second;
-  }
-  if (!steps.is_none() && !(py::isinstance<py::str>(steps) && steps.cast<std::string>() == "auto")) {
-    const long n = steps.cast<long>();
-    if (n < 1 || n > 1024) fail("load: steps must be from 1 to 1024 or 'auto', got " + std::to_string(n));
-    o.gltf.steps.steps = uint32_t(n);
-  }
-  py::gil_scoped_release nogil;
-  return wrap(loadSceneSpec(path, o));
 }
 
 std::shared_ptr<PyScene> makeScene(const std::string& name, double size, uint64_t seed) {
@@ -84,13 +60,11 @@ py::array_t<float> renderScene(const std::shared_ptr<PyScene>& scene, std::share
     std::shared_lock lock(sceneLock());
     std::unique_ptr<Accel> own;
     if (!accel) {
-      BuildOptions o;
-      o.kind = AccelKind::Stbvh;
-      own = Accel::build(scene->scene(), o);
+      own = Accel::build(scene->scene(), BuildOptions{});  // auto, the default everywhere
     } else {
       accel->checkCurrent();
     }
-    RenderResult r = render(description, own ? *own : *accel->accel, args.options);
+    RenderResult r = render(description, own ? *own : accel->get(), args.options);
     image = args.tonemap ? tonemap(r.image, args.options.integrator, args.exposure) : std::move(r.image);
   }
   py::array_t<float> out({py::ssize_t(image.height()), py::ssize_t(image.width()), py::ssize_t(3)});
@@ -179,14 +153,6 @@ py::list runBench(const py::list& scenes, const std::vector<std::string>& accels
 }  // namespace
 
 void bindLoaders(py::module_& m) {
-  m.def("load", &load, "path"_a, py::kw_only(), "shutter"_a = py::none(), "steps"_a = py::none(), "clip"_a = "",
-        "fps"_a = 24.0, "motion"_a = "", "size"_a = 1.0, "seed"_a = 1,
-        R"doc(Loads a scene: a built-in scene name, .obj, .ply, .gltf/.glb, a JSON scene file, or
-an OBJ keyframe sequence (a folder or a glob), as `mbrt --scene` does
-(docs/input.md). shutter: (open, close) in seconds of a glTF clip; steps:
-time steps per moving mesh (a number or 'auto'); clip: glTF animation;
-motion: procedural motion of a static mesh. Raises mbrt.Error naming the
-file for a missing or bad input.)doc");
   py::module_ scenes = m.def_submodule("scenes", "The built-in procedural scene suite.");
   scenes.def("make", &makeScene, "name"_a, "size"_a = 1.0, "seed"_a = 1,
              "Builds a built-in scene (names()): deterministic for a seed; size 1 gives the suite's defaults.");
@@ -219,7 +185,7 @@ void bindRender(py::module_& m) {
       R"doc(Renders the scene to an (H, W, 3) float32 linear RGB array (tonemap=True: the
 display transform of `mbrt render`'s PNGs, still linear). integrator: normals,
 ao, path, heat-steps, heat-isects, clusters. accel: an Accel over this scene
-(default: an stbvh built for the call). The camera is the scene's (loaded and
+(default: an `auto` accel built for the call, as everywhere). The camera is the scene's (loaded and
 built-in scenes) or frames the scene; eye/target/up/fov override it.
 Deterministic for a seed whatever the thread count.)doc");
 }

@@ -30,9 +30,16 @@ uint64_t deepVersion(const Scene& scene) {
   return sum;
 }
 
+Accel& PyAccel::get() const {
+  if (!accel) fail("this accel has no structure: its last update (Document.frames) failed");
+  return *accel;
+}
+
 void PyAccel::checkCurrent() const {
+  get();
   if (deepVersion(scene->scene()) != builtVersion)
-    fail("the scene changed since this accel was built (geometry added or masks set): call rebuild()");
+    fail("the scene changed since this accel was built (geometry added, masks set, or another frame): call "
+         "rebuild() or refit()");
 }
 
 }  // namespace mbrt::python
@@ -56,6 +63,7 @@ PYBIND11_MODULE(_mbrt, m) {
   bindScene(m);
   bindAccel(m);
   bindLoaders(m);
+  bindAnimation(m);
   bindRender(m);
   bindBench(m);
 }

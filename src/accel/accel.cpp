@@ -73,6 +73,7 @@ void TraversalCounters::add(const TraversalCounters& o) {
   rays += o.rays;
   nodesVisited += o.nodesVisited;
   boxTests += o.boxTests;
+  leavesVisited += o.leavesVisited;
   primitiveTests += o.primitiveTests;
   blockPrimitiveTests += o.blockPrimitiveTests;
   maxNodesVisited = std::max(maxNodesVisited, o.maxNodesVisited);

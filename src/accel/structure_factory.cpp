@@ -49,6 +49,42 @@ std::optional<AccelKind> parseAccelKind(std::string_view name) {
   return std::nullopt;
 }
 
+namespace {
+
+constexpr std::array<std::pair<BuildOptions::EmbreeMode, std::string_view>, 4> kEmbreeModes{{
+    {BuildOptions::EmbreeMode::Robust, "robust"},
+    {BuildOptions::EmbreeMode::Default, "default"},
+    {BuildOptions::EmbreeMode::Static, "static"},
+    {BuildOptions::EmbreeMode::StaticRobust, "static-robust"}}};
+
+}  // namespace
+
+std::string_view toString(BuildOptions::EmbreeMode mode) {
+  for (const auto& [m, name] : kEmbreeModes)
+    if (m == mode) return name;
+  return "unknown";
+}
+
+std::optional<BuildOptions::EmbreeMode> parseEmbreeMode(std::string_view name) {
+  for (const auto& [m, n] : kEmbreeModes)
+    if (n == name) return m;
+  return std::nullopt;
+}
+
+std::string embreeRowName(BuildOptions::EmbreeMode mode) {
+  if (mode == BuildOptions::EmbreeMode::Default) return "embree";
+  return "embree-" + std::string(toString(mode));
+}
+
+std::optional<BuildOptions::EmbreeMode> parseEmbreeRow(std::string_view row) {
+  if (row == "embree") return BuildOptions::EmbreeMode::Default;
+  constexpr std::string_view kPrefix = "embree-";
+  if (!row.starts_with(kPrefix)) return std::nullopt;
+  const auto mode = parseEmbreeMode(row.substr(kPrefix.size()));
+  if (mode == BuildOptions::EmbreeMode::Default) return std::nullopt;  // spelled "embree"
+  return mode;
+}
+
 std::vector<AccelKind> availableAccelKinds() {
   std::vector<AccelKind> kinds{AccelKind::Brute, AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Frozen,
                                 AccelKind::Stbvh, AccelKind::Msbvh, AccelKind::Mbkd, AccelKind::FuzzyKd};

@@ -37,7 +37,7 @@ namespace mbrt::detail {
 // between kinds at equal counts is the memory they read: each doubling of
 // a structure's bytes above ~1 MB (the second-level cache of a core) costs
 // a quarter more per event (cache misses). A triangle tested in a leaf
-// block (leaf_blocks.h, motion_leaf_blocks.h: eight triangles against the
+// block (leaves/triangle_blocks.h, leaves/motion_blocks.h: eight triangles against the
 // ray at once, their vertices stored in the block) costs a quarter of one
 // tested alone. A block is read whole, front to back (288 bytes per key
 // for eight triangles), which the hardware prefetches, where a node visit or

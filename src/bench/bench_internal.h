@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "mbrt/splitmix.h"
+
 namespace mbrt::bench {
 
 using Clock = std::chrono::steady_clock;
@@ -21,14 +23,9 @@ inline double median(std::vector<double> v) {
 }
 
 // Counter-based random numbers: the same rays whatever the thread count.
-inline uint64_t mix(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
+inline uint64_t mix(uint64_t x) { return mix64(x + kSplitMixGamma); }
 inline float uniform(uint64_t seed, uint64_t index, uint64_t stream) {
-  return float(mix(seed ^ mix(index * 4 + stream)) >> 40) * (1.0f / 16777216.0f);
+  return toUnitFloat(mix(seed ^ mix(index * 4 + stream)));
 }
 inline uint64_t hashName(const std::string& s) {
   uint64_t h = 1469598103934665603ull;

@@ -100,7 +100,7 @@ bool available(AccelKind kind) {
 Candidate accelCandidate(AccelKind kind, EmbreeMode mode) {
   Candidate c;
   c.name = std::string(toString(kind));
-  if (kind == AccelKind::Embree && mode == EmbreeMode::Robust) c.name = "embree-robust";
+  if (kind == AccelKind::Embree) c.name = embreeRowName(mode);
   c.peer = kind == AccelKind::Embree;
   c.build = [kind, mode](const Scene& scene) -> std::unique_ptr<Target> {
     BuildOptions o;
@@ -117,9 +117,8 @@ std::vector<std::string> candidateNames() {
                       AccelKind::Stbvh, AccelKind::Msbvh, AccelKind::Mbkd, AccelKind::FuzzyKd, AccelKind::Embree,
                       AccelKind::Auto})
     names.push_back(std::string(toString(k)));
-  names.push_back("embree-robust");
-  names.push_back("embree-static");
-  names.push_back("embree-static-robust");
+  for (EmbreeMode m : {EmbreeMode::Robust, EmbreeMode::Static, EmbreeMode::StaticRobust})
+    names.push_back(embreeRowName(m));
   return names;
 }
 
@@ -128,29 +127,26 @@ std::vector<Candidate> defaultCandidates(const Options& options, std::vector<std
   if (names.empty()) {
     for (AccelKind k : availableAccelKinds())
       if (k != AccelKind::Brute) names.push_back(std::string(toString(k)));
-    if (available(AccelKind::Embree)) {
-      names.push_back("embree-robust");
-      names.push_back("embree-static");
-      names.push_back("embree-static-robust");
-    }
+    if (available(AccelKind::Embree))
+      for (EmbreeMode m : {EmbreeMode::Robust, EmbreeMode::Static, EmbreeMode::StaticRobust})
+        names.push_back(embreeRowName(m));
   }
   const int K = std::max(1, options.frozenTimes);
   std::vector<Candidate> out;
   for (const std::string& n : names) {
-    const bool embreeMode = n == "embree-robust" || n == "embree-static" || n == "embree-static-robust";
-    const auto kind = embreeMode ? std::optional<AccelKind>(AccelKind::Embree) : parseAccelKind(n);
+    const std::optional<EmbreeMode> mode = parseEmbreeRow(n);
+    const auto kind = mode ? std::optional<AccelKind>(AccelKind::Embree) : parseAccelKind(n);
     if (!kind) throw Error("unknown accel '" + n + "'");
     if (!available(*kind)) {
       if (notes) notes->push_back(n + ": not available in this build");
       continue;
     }
-    if (n == "embree-static" || n == "embree-static-robust")
-      out.push_back(frozenCandidate(n, AccelKind::Embree,
-                                    n == "embree-static" ? EmbreeMode::Static : EmbreeMode::StaticRobust, K));
+    if (mode == EmbreeMode::Static || mode == EmbreeMode::StaticRobust)
+      out.push_back(frozenCandidate(n, AccelKind::Embree, *mode, K));
     else if (*kind == AccelKind::Frozen)
       out.push_back(frozenCandidate(n, AccelKind::Frozen, EmbreeMode::Default, K));
     else
-      out.push_back(accelCandidate(*kind, n == "embree-robust" ? EmbreeMode::Robust : EmbreeMode::Default));
+      out.push_back(accelCandidate(*kind, mode.value_or(EmbreeMode::Default)));
   }
   return out;
 }

@@ -11,10 +11,7 @@
 
 #include "core/robust_slab.h"
 #include "bvh/nodes/wide_bvh.h"
-#include "bvh/leaf_blocks.h"
-#include "bvh/motion_leaf_blocks.h"
-#include "bvh/segment_leaf_blocks.h"
-#include "scene/leaf_intersect.h"
+#include "leaves/leaf_format.h"
 
 namespace mbrt::detail {
 
@@ -132,6 +129,17 @@ inline TraversalItem laneItem(const Node& node, int lane, float dist) {
   return {node.child[lane], node.count[lane], dist};
 }
 
+// Asks for the cache lines of the inner children in `lanes` of `node`.
+template <class Node, class NodeAt>
+[[gnu::always_inline]] inline void prefetchChildren(const Node& node, uint32_t lanes, const NodeAt& nodeAt) {
+  for (; lanes != 0; lanes &= lanes - 1) {
+    const int lane = __builtin_ctz(lanes);
+    if (node.count[lane] != kInnerLane) continue;
+    const char* p = reinterpret_cast<const char*>(&nodeAt(node.child[lane]));
+    for (size_t line = 0; line < sizeof(Node); line += 64) __builtin_prefetch(p + line);
+  }
+}
+
 // The front-to-back loop of every N-wide tree (the BVH kinds and `msbvh`).
 // nodeAt(i) gives node i (its lanes, as laneItem reads them); testNode(node,
 // i, dist) returns the mask of lanes the ray enters, with their entry
@@ -171,10 +179,14 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
           item = laneItem(node, lane, dist[lane]);
           continue;
         }
-        // Two or more lanes: the nearest is visited next, the others are
-        // pushed farthest first. Two lanes (the common case) take one
-        // compare; more are insertion-sorted in place on the stack, ties
-        // keeping lane order, as a stable descending sort would.
+        // Two or more lanes: their nodes are fetched into the cache now, so
+        // that the loads of the one visited next and of those popped later
+        // overlap this node's work (as Embree prefetches each hit child).
+        prefetchChildren(node, mask | 1u << lane, nodeAt);
+        // The nearest is visited next, the others are pushed farthest
+        // first. Two lanes (the common case) take one compare; more are
+        // insertion-sorted in place on the stack, ties keeping lane order,
+        // as a stable descending sort would.
         TraversalItem first = laneItem(node, lane, dist[lane]);
         lane = __builtin_ctz(mask);
         mask &= mask - 1;
@@ -207,7 +219,10 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
         item = stack[--sp];
         continue;
       }
-      if constexpr (Count) counters->primitiveTests += item.leafSize();
+      if constexpr (Count) {
+        ++counters->leavesVisited;
+        counters->primitiveTests += item.leafSize();
+      }
       if (leaf(item)) {
         if constexpr (AnyHit) return true;
         found = true;
@@ -218,66 +233,22 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
   return found;
 }
 
-// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
-// boxTime is the ray's time in the tree's time parameter; the leaf test uses
-// ray.time, and `stored` triangles when given (valid at ray.time), and a
-// static tree's leaf `blocks` (leaf_blocks.h) or `segmentBlocks`
-// (segment_leaf_blocks.h), or a motion tree's `motionBlocks`
-// (motion_leaf_blocks.h), when given; other leaves gather their runs into
-// blocks (scene/leaf_intersect.h), through `refTriangles` when given. Count adds nodes
+// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit
+// of a wide BVH whose leaves are laid out in `leaves` (a leaf format,
+// leaves/leaf_format.h). boxTime is the ray's time in the tree's time
+// parameter; the leaf test uses ray.time. Count adds nodes and leaves
 // visited, box tests and primitive tests.
 //
 // The nodes may be tested with another ray than the leaves, of the same
 // parameter t: a near-rigid cluster's tree (cluster_bvh.h) has its nodes in
 // the cluster's frame and its leaves in world space. `nodeRay` and
 // `leafRay` may be the same object; a hit shortens both.
-template <bool AnyHit, bool Count, int N, bool Motion>
-bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& nodeRay, RayQuery& leafRay,
-              float boxTime, Hit* hit, TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
-              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr,
-              const SegmentLeafBlocks* segmentBlocks = nullptr, const ReferenceTriangles* refTriangles = nullptr) {
-  RayQuery& ray = leafRay;
-  const bool useBlocks = !Motion && blocks && ray.time == blocks->time;
-  const bool useSegmentBlocks = !Motion && segmentBlocks && ray.time == segmentBlocks->time;
+template <bool AnyHit, bool Count, int N, bool Motion, LeafFormat Leaves>
+bool traverse(const WideBvh<N, Motion>& bvh, const Leaves& leaves, const SceneContext& ctx, RayQuery& nodeRay,
+              RayQuery& leafRay, float boxTime, Hit* hit, TraversalCounters* counters) {
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(nodeRay, boxTime);
-  const LeafBlockRay blockRay(ray);
-  const SegmentBlockRay<kLeafBlockWidth> segmentRay =
-      useSegmentBlocks ? SegmentBlockRay<kLeafBlockWidth>(ray) : SegmentBlockRay<kLeafBlockWidth>();
-  const auto leaf = [&](const TraversalItem& item) {
-    if constexpr (!Motion) {
-      if (useBlocks && !(item.count & TraversalItem::kInline))
-        if (const TriangleLeafBlock* b = blocks->of(item.child)) {
-          if constexpr (Count) counters->blockPrimitiveTests += item.count;
-          if constexpr (AnyHit) return leaf_block::occludedBlocks(b, item.count, ray, blockRay);
-          else return leaf_block::intersectBlocks(b, item.count, ray, blockRay, *hit);
-        }
-      if (useSegmentBlocks && !(item.count & TraversalItem::kInline))
-        if (const SegmentLeafBlock* b = segmentBlocks->of(item.child)) {
-          if constexpr (Count) counters->blockPrimitiveTests += item.count;
-          if constexpr (AnyHit) return leaf_block::occludedSegmentBlocks(b, item.count, ray, segmentRay);
-          else return leaf_block::intersectSegmentBlocks(b, item.count, ray, segmentRay, *hit);
-        }
-    }
-    if (motionBlocks && !(item.count & TraversalItem::kInline))
-      if (const MotionLeafBlocks::Leaf* l = motionBlocks->of(item.child)) {
-        if constexpr (Count) counters->blockPrimitiveTests += item.count;
-        const PrimRef* prims = bvh.prims.data() + item.child;
-        if constexpr (AnyHit)
-          return leaf_block::occludedMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay);
-        else
-          return leaf_block::intersectMotionBlocks(ctx, *motionBlocks, *l, prims, item.count, ray, blockRay, *hit);
-      }
-    PrimRef one;
-    const PrimRef* prims = item.references(bvh.prims.data(), one);
-    const uint32_t count = item.leafSize();
-    const Triangle* indices =
-        refTriangles && !(item.count & TraversalItem::kInline) ? refTriangles->from(item.child) : nullptr;
-    if constexpr (AnyHit) return occludedLeaf<!Motion>(ctx, prims, count, ray, stored, &blockRay, indices);
-    else
-      return intersectLeaf<!Motion>(ctx, prims, count, ray, *hit, Count ? counters : nullptr, stored, &blockRay,
-                                    indices);
-  };
+  const typename Leaves::RayState state = leaves.rayState(leafRay);
   return wideTraverse<AnyHit, Count, N>(
       bvh.stackSize, nodeRay, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
       [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
@@ -285,19 +256,19 @@ bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& 
         return intersectNode<packWidth<N>()>(node, r, nodeRay.tfar, dist, times);
       },
       [&](const TraversalItem& item) {
-        const bool found = leaf(item);
-        if constexpr (!AnyHit) nodeRay.tfar = ray.tfar;
+        PrimRef one;
+        const LeafRefs refs{item.references(bvh.prims.data(), one), item.leafSize(),
+                            item.count & TraversalItem::kInline ? LeafRefs::kNoTable : item.child};
+        const bool found = leaves.template test<AnyHit, Count>(ctx, refs, leafRay, state, hit, counters);
+        if constexpr (!AnyHit) nodeRay.tfar = leafRay.tfar;
         return found;
       });
 }
 
-template <bool AnyHit, bool Count, int N, bool Motion>
-bool traverse(const WideBvh<N, Motion>& bvh, const SceneContext& ctx, RayQuery& ray, float boxTime, Hit* hit,
-              TraversalCounters* counters, const FixedTimeTriangles* stored = nullptr,
-              const TriangleLeafBlocks* blocks = nullptr, const MotionLeafBlocks* motionBlocks = nullptr,
-              const SegmentLeafBlocks* segmentBlocks = nullptr, const ReferenceTriangles* refTriangles = nullptr) {
-  return traverse<AnyHit, Count>(bvh, ctx, ray, ray, boxTime, hit, counters, stored, blocks, motionBlocks,
-                                 segmentBlocks, refTriangles);
+template <bool AnyHit, bool Count, int N, bool Motion, LeafFormat Leaves>
+bool traverse(const WideBvh<N, Motion>& bvh, const Leaves& leaves, const SceneContext& ctx, RayQuery& ray,
+              float boxTime, Hit* hit, TraversalCounters* counters) {
+  return traverse<AnyHit, Count>(bvh, leaves, ctx, ray, ray, boxTime, hit, counters);
 }
 
 }  // namespace mbrt::detail

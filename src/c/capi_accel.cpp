@@ -80,7 +80,9 @@ MBRTAccel mbrtNewAccel(MBRTScene scene, const char* kind, const MBRTBuildOptions
     if (options) copyBuildOptions(*options, o);
     auto a = std::make_unique<MBRTAccelT>();
     a->scene = scene;
-    a->accel = mbrt::Accel::build(scene->data->scene, o);
+    a->options = o;
+    a->accel = mbrt::Accel::build(*scene->data->scene, o);
+    a->sceneVersion = scene->data->scene->version();
     scene->liveAccels.fetch_add(1);
     addUsers(*scene->data, 1);
     return a.release();
@@ -100,9 +102,9 @@ void mbrtReleaseAccel(MBRTAccel accel) {
 
 int mbrtGetAccelStats(MBRTAccel accel, MBRTAccelStats* stats) {
   return guarded(deviceOf(accel), 0, "mbrtGetAccelStats", [&] {
-    checkAccel(accel);
+    const mbrt::Accel& a = traced(accel);
     require(stats != nullptr, "stats is NULL");
-    mbrt::AccelStats s = accel->accel->stats();
+    mbrt::AccelStats s = a.stats();
     std::memset(stats, 0, sizeof(*stats));
     std::strncpy(stats->kind, s.kind.c_str(), sizeof(stats->kind) - 1);
     stats->primitives = s.primitives;
@@ -121,11 +123,11 @@ int mbrtGetAccelStats(MBRTAccel accel, MBRTAccelStats* stats) {
 
 int mbrtIntersect1(MBRTAccel accel, const MBRTRay* ray, MBRTHit* hit) {
   return guarded(deviceOf(accel), (missHit(hit), 0), "mbrtIntersect1", [&] {
-    checkAccel(accel);
+    const mbrt::Accel& a = traced(accel);
     require(ray != nullptr, "ray is NULL");
     require(hit != nullptr, "hit is NULL");
     mbrt::Hit h;
-    bool found = accel->accel->intersect(toRay(*ray), h);
+    bool found = a.intersect(toRay(*ray), h);
     toHit(h, *hit);
     return found ? 1 : 0;
   });
@@ -133,17 +135,16 @@ int mbrtIntersect1(MBRTAccel accel, const MBRTRay* ray, MBRTHit* hit) {
 
 int mbrtOccluded1(MBRTAccel accel, const MBRTRay* ray) {
   return guarded(deviceOf(accel), 0, "mbrtOccluded1", [&] {
-    checkAccel(accel);
+    const mbrt::Accel& a = traced(accel);
     require(ray != nullptr, "ray is NULL");
-    return accel->accel->occluded(toRay(*ray)) ? 1 : 0;
+    return a.occluded(toRay(*ray)) ? 1 : 0;
   });
 }
 
 int mbrtIntersectM(MBRTAccel accel, const MBRTRay* rays, MBRTHit* hits, size_t count) {
   return guarded(deviceOf(accel), 0, "mbrtIntersectM", [&] {
-    checkAccel(accel);
+    const mbrt::Accel& a = traced(accel);
     require(count == 0 || (rays && hits), "rays or hits is NULL");
-    const mbrt::Accel& a = *accel->accel;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) {
         mbrt::Hit h;
@@ -157,9 +158,8 @@ int mbrtIntersectM(MBRTAccel accel, const MBRTRay* rays, MBRTHit* hits, size_t c
 
 int mbrtOccludedM(MBRTAccel accel, const MBRTRay* rays, uint8_t* occluded, size_t count) {
   return guarded(deviceOf(accel), 0, "mbrtOccludedM", [&] {
-    checkAccel(accel);
+    const mbrt::Accel& a = traced(accel);
     require(count == 0 || (rays && occluded), "rays or occluded is NULL");
-    const mbrt::Accel& a = *accel->accel;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) occluded[i] = a.occluded(toRay(rays[i])) ? 1 : 0;
     });
@@ -200,11 +200,10 @@ void storeSoA(const mbrt::Hit& h, const MBRTHitSoA& o, size_t i) {
 
 int mbrtIntersectSoA(MBRTAccel accel, const MBRTRaySoA* rays, const MBRTHitSoA* hits, size_t count) {
   return guarded(deviceOf(accel), 0, "mbrtIntersectSoA", [&] {
-    checkAccel(accel);
+    const mbrt::Accel& a = traced(accel);
     checkSoA(rays, count);
     require(hits != nullptr, "hits is NULL");
     require(count == 0 || (hits->t && hits->geomID && hits->primID), "hits: t, geomID and primID must not be NULL");
-    const mbrt::Accel& a = *accel->accel;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) {
         mbrt::Hit h;
@@ -218,10 +217,9 @@ int mbrtIntersectSoA(MBRTAccel accel, const MBRTRaySoA* rays, const MBRTHitSoA* 
 
 int mbrtOccludedSoA(MBRTAccel accel, const MBRTRaySoA* rays, uint8_t* occluded, size_t count) {
   return guarded(deviceOf(accel), 0, "mbrtOccludedSoA", [&] {
-    checkAccel(accel);
+    const mbrt::Accel& a = traced(accel);
     checkSoA(rays, count);
     require(count == 0 || occluded, "occluded is NULL");
-    const mbrt::Accel& a = *accel->accel;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i < r.end(); ++i) occluded[i] = a.occluded(soaRay(*rays, i)) ? 1 : 0;
     });

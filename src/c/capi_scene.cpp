@@ -70,6 +70,9 @@ MBRTScene mbrtNewScene(MBRTDevice device) {
 void mbrtReleaseScene(MBRTScene scene) {
   guarded(deviceOf(scene), 0, "mbrtReleaseScene", [&] {
     checkScene(scene);
+    if (scene->animation)
+      fail(MBRT_ERROR_INVALID_OPERATION, "the scene belongs to an animation: it is released with it "
+                                         "(mbrtReleaseAnimation)");
     uint64_t live = scene->liveAccels.load();
     if (live)
       fail(MBRT_ERROR_INVALID_OPERATION,
@@ -91,7 +94,7 @@ uint32_t mbrtNewTriangleMesh(MBRTScene scene, const uint32_t* indices, size_t nu
     std::vector<mbrt::Triangle> triangles(numTriangles);
     for (size_t i = 0; i < numTriangles; ++i) triangles[i] = {indices[3 * i], indices[3 * i + 1], indices[3 * i + 2]};
     checkMutable(*scene);
-    return scene->data->scene.addTriangleMesh(std::move(triangles), std::move(vertexSteps), range);
+    return scene->data->scene->addTriangleMesh(std::move(triangles), std::move(vertexSteps), range);
   });
 }
 
@@ -107,7 +110,7 @@ uint32_t mbrtNewSegments(MBRTScene scene, const uint32_t* indices, size_t numSeg
     std::vector<mbrt::Segment> segments(numSegments);
     for (size_t i = 0; i < numSegments; ++i) segments[i] = {indices[2 * i], indices[2 * i + 1]};
     checkMutable(*scene);
-    return scene->data->scene.addSegments(std::move(segments), std::move(vertexSteps), std::move(r), range);
+    return scene->data->scene->addSegments(std::move(segments), std::move(vertexSteps), std::move(r), range);
   });
 }
 
@@ -132,7 +135,9 @@ uint32_t addInstanceOf(MBRTScene scene, MBRTScene child, const void* keys, uint3
   if (reaches(*child->data, scene->data.get()))
     fail(MBRT_ERROR_INVALID_ARGUMENT, "the child scene instances this scene (an instance cycle)");
   checkMutable(*scene);
-  uint32_t id = add(std::shared_ptr<const mbrt::Scene>(child->data, &child->data->scene), range);
+  if (child->animation)
+    fail(MBRT_ERROR_INVALID_OPERATION, "the child scene belongs to an animation: its frames cannot be instanced");
+  uint32_t id = add(std::shared_ptr<const mbrt::Scene>(child->data, child->data->scene.get()), range);
   scene->data->children.push_back(child->data);
   return id;
 }
@@ -154,7 +159,7 @@ uint32_t mbrtNewInstance(MBRTScene scene, MBRTScene child, const float* keys, ui
         a.vz = {m[2], m[6], m[10]};
         a.p = {m[3], m[7], m[11]};
       }
-      return scene->data->scene.addInstance(std::move(childScene), std::move(transforms), range);
+      return scene->data->scene->addInstance(std::move(childScene), std::move(transforms), range);
     });
   });
 }
@@ -170,7 +175,7 @@ uint32_t mbrtNewInstanceSRT(MBRTScene scene, MBRTScene child, const MBRTSRTKey* 
         srt[k].rotation = {c.rotation[0], c.rotation[1], c.rotation[2], c.rotation[3]};
         srt[k].translation = {c.translation[0], c.translation[1], c.translation[2]};
       }
-      return scene->data->scene.addInstance(std::move(childScene), std::move(srt), range);
+      return scene->data->scene->addInstance(std::move(childScene), std::move(srt), range);
     });
   });
 }
@@ -179,15 +184,15 @@ void mbrtSetGeometryFilter(MBRTScene scene, uint32_t geomID, MBRTFilterFunc filt
   guarded(deviceOf(scene), 0, "mbrtSetGeometryFilter", [&] {
     checkScene(scene);
     checkGeometry(*scene, geomID);
-    if (scene->data->scene.geometry(geomID).type() == mbrt::GeometryType::Instance)
+    if (scene->data->scene->geometry(geomID).type() == mbrt::GeometryType::Instance)
       fail(MBRT_ERROR_INVALID_ARGUMENT, "geometry " + std::to_string(geomID) +
                                             " is an instance: filters belong to triangle and segment geometries");
     checkMutable(*scene);
     if (!filter) {
-      scene->data->scene.setFilter(geomID, {}, nullptr);
+      scene->data->scene->setFilter(geomID, {}, nullptr);
       return 0;
     }
-    scene->data->scene.setFilter(
+    scene->data->scene->setFilter(
         geomID,
         [filter](const mbrt::FilterArgs& args) {
           MBRTRay ray = fromRay(args.ray);
@@ -205,7 +210,7 @@ void mbrtSetGeometryMask(MBRTScene scene, uint32_t geomID, uint32_t mask) {
     checkScene(scene);
     checkGeometry(*scene, geomID);
     checkMutable(*scene);
-    scene->data->scene.setMask(geomID, mask);
+    scene->data->scene->setMask(geomID, mask);
     return 0;
   });
 }
@@ -213,7 +218,7 @@ void mbrtSetGeometryMask(MBRTScene scene, uint32_t geomID, uint32_t mask) {
 uint32_t mbrtGetGeometryCount(MBRTScene scene) {
   return guarded<uint32_t>(deviceOf(scene), 0, "mbrtGetGeometryCount", [&] {
     checkScene(scene);
-    return scene->data->scene.numGeometries();
+    return scene->data->scene->numGeometries();
   });
 }
 

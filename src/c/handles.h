@@ -19,8 +19,10 @@
 #include <vector>
 
 #include "mbrt/accel.h"
+#include "mbrt/accel_update.h"
 #include "mbrt/build_options.h"
 #include "mbrt/error.h"
+#include "mbrt/io/animation.h"
 #include "mbrt/quaternion.h"
 #include "mbrt/scene.h"
 
@@ -31,6 +33,7 @@ namespace mbrt::capi {
 constexpr uint32_t kDeviceTag = 0x4d424456u;  // "MBDV"
 constexpr uint32_t kSceneTag = 0x4d425343u;   // "MBSC"
 constexpr uint32_t kAccelTag = 0x4d424143u;   // "MBAC"
+constexpr uint32_t kAnimationTag = 0x4d42414eu;  // "MBAN"
 
 // An error to report with a chosen code (the others are mapped by type).
 struct CError {
@@ -62,7 +65,7 @@ namespace mbrt::capi {
 // A scene and what the C layer knows of it. Shared: instances in other
 // scenes keep it alive after its handle is released.
 struct SceneData {
-  mbrt::Scene scene;
+  std::shared_ptr<mbrt::Scene> scene = std::make_shared<mbrt::Scene>();
   std::vector<std::shared_ptr<SceneData>> children;  // the scenes it instances
   // Live accels that trace this scene, directly or through instances:
   // while nonzero the scene may not change.
@@ -75,12 +78,25 @@ struct MBRTSceneT {
   MBRTDeviceT* device;
   std::shared_ptr<mbrt::capi::SceneData> data = std::make_shared<mbrt::capi::SceneData>();
   std::atomic<uint64_t> liveAccels{0};  // accels built on this scene itself
+  // The animation whose frames this scene is (mbrtGetAnimationScene); null
+  // for a scene of mbrtNewScene. Only the animation changes it.
+  struct MBRTAnimationT* animation = nullptr;
 };
 
 struct MBRTAccelT {
   uint32_t tag = mbrt::capi::kAccelTag;
   MBRTSceneT* scene;
-  std::unique_ptr<mbrt::Accel> accel;
+  std::unique_ptr<mbrt::Accel> accel;  // null after a failed mbrtUpdateAccel
+  mbrt::BuildOptions options;          // what it was built with: the options of later builds
+  uint64_t sceneVersion = 0;           // the scene's version at the last build or update
+  mbrt::AccelUpdater updater;          // mbrtUpdateAccel's policy and what it remembers
+};
+
+struct MBRTAnimationT {
+  uint32_t tag = mbrt::capi::kAnimationTag;
+  MBRTDeviceT* device;
+  std::unique_ptr<mbrt::Animation> animation;
+  MBRTSceneT* scene = nullptr;  // its frames, owned by the animation
 };
 
 namespace mbrt::capi {
@@ -159,10 +175,28 @@ inline void require(bool ok, const char* what) {
 inline MBRTDeviceT* deviceOf(MBRTDevice d) { return d && d->tag == kDeviceTag ? d : nullptr; }
 inline MBRTDeviceT* deviceOf(MBRTScene s) { return s && s->tag == kSceneTag ? s->device : nullptr; }
 inline MBRTDeviceT* deviceOf(MBRTAccel a) { return a && a->tag == kAccelTag ? a->scene->device : nullptr; }
+inline MBRTDeviceT* deviceOf(MBRTAnimation a) { return a && a->tag == kAnimationTag ? a->device : nullptr; }
 
 inline void checkDevice(MBRTDevice d) { require(d && d->tag == kDeviceTag, "NULL or invalid device handle"); }
 inline void checkScene(MBRTScene s) { require(s && s->tag == kSceneTag, "NULL or invalid scene handle"); }
 inline void checkAccel(MBRTAccel a) { require(a && a->tag == kAccelTag, "NULL or invalid accel handle"); }
+inline void checkAnimation(MBRTAnimation a) {
+  require(a && a->tag == kAnimationTag, "NULL or invalid animation handle");
+}
+
+// The structure of an accel that may be traced: not left without one by a
+// failed update, and not stale (an animation's frame changed its scene
+// since the last build or update).
+inline const mbrt::Accel& traced(MBRTAccel a) {
+  checkAccel(a);
+  if (!a->accel)
+    fail(MBRT_ERROR_INVALID_OPERATION, "the accel's last update failed: update it again (mbrtUpdateAccel)");
+  if (a->sceneVersion != a->scene->data->scene->version())
+    fail(MBRT_ERROR_INVALID_OPERATION,
+         "the animation's scene changed (mbrtSetAnimationFrame) since the accel was built or updated: call "
+         "mbrtUpdateAccel first");
+  return *a->accel;
+}
 
 inline std::vector<std::vector<mbrt::Vec3f>> copySteps(const MBRTVertexBuffer* steps, uint32_t numSteps) {
   require(steps != nullptr, "steps is NULL");
@@ -200,6 +234,8 @@ inline void addUsers(SceneData& data, int64_t delta) {
 // Accels hold on to the scene's geometry: a scene traced by a live accel is
 // frozen.
 inline void checkMutable(const MBRTSceneT& scene) {
+  if (scene.animation)
+    fail(MBRT_ERROR_INVALID_OPERATION, "the scene belongs to an animation: only its frames change it");
   uint64_t users = scene.data->users.load();
   if (users)
     fail(MBRT_ERROR_INVALID_OPERATION, "the scene is traced by " + std::to_string(users) +
@@ -207,9 +243,9 @@ inline void checkMutable(const MBRTSceneT& scene) {
 }
 
 inline void checkGeometry(const MBRTSceneT& scene, uint32_t geomID) {
-  if (geomID >= scene.data->scene.numGeometries())
+  if (geomID >= scene.data->scene->numGeometries())
     fail(MBRT_ERROR_INVALID_ARGUMENT, "geometry id " + std::to_string(geomID) + " out of range (the scene has " +
-                                          std::to_string(scene.data->scene.numGeometries()) + ")");
+                                          std::to_string(scene.data->scene->numGeometries()) + ")");
 }
 
 inline mbrt::TimeRange timeRange(float time0, float time1) {

@@ -2,7 +2,7 @@
 // traversals (bvh/traverse.h, kd/kd_leaf_blocks.h, msbvh), the object
 // binner (bvh/heuristics/binned_sah.cpp), the primitive bounds
 // (scene/primitive_bounds.cpp), the leaves' gather into triangle blocks
-// (scene/leaf_intersect.h) and the motion node's distance terms are written
+// (leaves/gathered_runs.h) and the motion node's distance terms are written
 // once over Pack<W>. The ISA is picked in isa.h; this file holds
 // the portable pack (any W, plain floats) and the SSE (4) and AVX2 (8)
 // specialisations, which compute bit for bit what the portable pack does.

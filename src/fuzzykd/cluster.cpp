@@ -13,9 +13,9 @@ namespace {
 // levels. A fuzzy box holds its triangle in every frame, so it is larger
 // than the triangle in any one: the deepest cells of a static tree, which
 // separate neighbouring triangles, cannot separate their fuzzy boxes and
-// only duplicate references. Cutting them is what brings the fuzzy trees
-// to <= 1.5x a per-frame tree's memory at 1.2-1.6x its work per ray
-// (docs/fuzzykd.md, the sweep).
+// only duplicate references. Cutting them bounds the fuzzy trees' memory
+// near a per-frame tree's at a small cost in work per ray (the sweep's
+// figures: docs/fuzzykd.md).
 constexpr int kFuzzyDepthCut = 3;
 int fuzzyTreeDepth(size_t prims) {
   return std::max(1, int(8.0 + 1.3 * std::log2(double(std::max<size_t>(prims, 1)))) - kFuzzyDepthCut);

@@ -4,8 +4,8 @@
 // cluster's fuzzy tree; leaf triangles are tested in world space at the ray's
 // time (scene/primitive_intersect.h), so a hit shortens the world ray and the
 // local one alike (same parameter t). A leaf's triangles are tested
-// together, four at a time (kd/kd_leaf_batch.h); blockRay is BlockRay(ray),
-// made once per ray.
+// together in the format `leaves` (kd/kd_leaf_batch.h); `state` is its
+// per-ray state, made once per ray.
 #pragma once
 
 #include "fuzzykd/cluster.h"
@@ -14,9 +14,9 @@
 
 namespace mbrt::detail {
 
-template <bool AnyHit, bool Count>
+template <bool AnyHit, bool Count, LeafFormat Leaves>
 bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, Hit* hit,
-                     TraversalCounters* counters, const LeafBlockRay& blockRay) {
+                     TraversalCounters* counters, const Leaves& leaves, const typename Leaves::RayState& state) {
   const Geometry& geo = ctx.geometry(c.geomID);
   if constexpr (Count) ++counters->boxTests;
   if (!rayHitsBox(ray, c.boxAt(geo, ray.time))) return false;
@@ -33,12 +33,12 @@ bool traverseCluster(const SceneContext& ctx, const Cluster& c, RayQuery& ray, H
       const uint32_t prim = refs[i];
       if (mailbox.seen(prim)) continue;
       batch.add(c.prims[prim]);
-      if (batch.full() && batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay)) {
+      if (batch.full() && batch.test<AnyHit, Count>(leaves, ctx, ray, hit, counters, state)) {
         if constexpr (AnyHit) return true;
         found = true;
       }
     }
-    found = batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay) || found;
+    found = batch.test<AnyHit, Count>(leaves, ctx, ray, hit, counters, state) || found;
     if (found) local.tfar = ray.tfar;
     return found;
   });

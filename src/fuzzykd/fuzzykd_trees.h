@@ -9,6 +9,7 @@
 #include "fuzzykd/cluster_traverse.h"
 #include "fuzzykd/top_tree.h"
 #include "fuzzykd/world_tree.h"
+#include "leaves/reference_leaves.h"
 
 namespace mbrt::detail {
 
@@ -16,6 +17,7 @@ struct FuzzyKdTrees {
   std::vector<Cluster> clusters;
   WorldTree world;
   TopTree top;  // item i < clusters.size(): cluster i; item clusters.size(): the world tree
+  ReferenceLeaves leaves;  // the leaf format of the clusters' and the world's trees
 
   uint32_t worldItem() const { return uint32_t(clusters.size()); }
 };
@@ -24,12 +26,12 @@ struct FuzzyKdTrees {
 template <bool AnyHit, bool Count>
 bool traceTrees(const SceneContext& ctx, const FuzzyKdTrees& trees, RayQuery& ray, Hit* hit,
                 TraversalCounters* counters) {
-  const LeafBlockRay blockRay(ray);
+  const ReferenceLeaves::RayState state = trees.leaves.rayState(ray);
   return traverseTop<AnyHit, Count>(trees.top, ray, counters, [&](uint32_t item) {
     if (item != trees.worldItem())
-      return traverseCluster<AnyHit, Count>(ctx, trees.clusters[item], ray, hit, counters, blockRay);
+      return traverseCluster<AnyHit, Count>(ctx, trees.clusters[item], ray, hit, counters, trees.leaves, state);
     if constexpr (Count) ++counters->boxTests;
-    return trees.world.traverse<AnyHit, Count>(ctx, ray, hit, counters);
+    return trees.world.traverse<AnyHit, Count>(trees.leaves, ctx, ray, hit, counters);
   });
 }
 

@@ -23,9 +23,10 @@ class WorldTree {
   LBounds bounds(const SceneContext& ctx) const;
   size_t bytes() const { return tree_.bytes() + paths_.bytes() + prims_.size() * sizeof(PrimRef); }
 
-  template <bool AnyHit, bool Count>
-  bool traverse(const SceneContext& ctx, RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
-    return kdTraverse<AnyHit, Count>(tree_, ctx, prims_.data(), ray, hit, counters, BoxFilter{paths_});
+  template <bool AnyHit, bool Count, LeafFormat Leaves>
+  bool traverse(const Leaves& leaves, const SceneContext& ctx, RayQuery& ray, Hit* hit,
+                TraversalCounters* counters) const {
+    return kdTraverse<AnyHit, Count>(tree_, leaves, ctx, prims_.data(), ray, hit, counters, BoxFilter{paths_});
   }
 
  private:

@@ -4,7 +4,8 @@
 //   gltf_deform.cpp    morph targets and skinning of one primitive
 //   gltf_steps.cpp     choosing the number of steps (automatic mode)
 //   gltf_materials.cpp base colours, base colour textures, texture coordinates
-//   gltf_loader.cpp    turning it all into a SceneDescription
+//   gltf_sampler.cpp   the file read once; nodes posed and meshes deformed over a shutter
+//   gltf_loader.cpp    a shutter's geometry (instances, vertex steps) and camera; loadGltf
 #pragma once
 
 #include <functional>

@@ -1,9 +1,9 @@
 // The primitive test of the kd kinds' leaves: the references of a leaf that
 // pass the kd checks (time interval, MBKD §3.2; mailbox; the box at the
-// ray's time) are collected and tested together by the leaf test that every
-// kind shares (scene/leaf_intersect.h), so that runs of two or more
+// ray's time) are collected and tested together by the kind's leaf format
+// (leaves/leaf_format.h: plain references, whose runs of two or more
 // triangles of one geometry are gathered four at a time into SIMD blocks at
-// the ray's time, as in the BVH kinds' leaves. The hits are those of
+// the ray's time, as in the BVH kinds' leaves). The hits are those of
 // intersectPrimitive on each survivor (bit-identical; among equal t the
 // first in geometry order wins, as in a BVH leaf sorted by geometry).
 #pragma once
@@ -12,7 +12,8 @@
 
 #include "core/prim_ref.h"
 #include "core/ray_query.h"
-#include "scene/leaf_intersect.h"
+#include "leaves/gathered_runs.h"
+#include "leaves/leaf_format.h"
 
 namespace mbrt::detail {
 
@@ -32,16 +33,15 @@ class KdLeafBatch {
   // (AnyHit = false: `hit` updated, ray.tfar shrinks; true when one was
   // found) or any hit. Counts one primitive test per reference, and the
   // gathered ones as block tests (as the BVH leaves count them).
-  template <bool AnyHit, bool Count>
-  bool test(const SceneContext& ctx, RayQuery& ray, Hit* hit, TraversalCounters* counters,
-            const LeafBlockRay& blockRay) {
+  template <bool AnyHit, bool Count, LeafFormat Leaves>
+  bool test(const Leaves& leaves, const SceneContext& ctx, RayQuery& ray, Hit* hit, TraversalCounters* counters,
+            const typename Leaves::RayState& state) {
     const uint32_t n = n_;
     n_ = 0;
     if (n == 0) return false;
     sortByGeometry(n);
     if constexpr (Count) counters->primitiveTests += n;
-    if constexpr (AnyHit) return occludedLeaf(ctx, prims_, n, ray, nullptr, &blockRay);
-    else return intersectLeaf(ctx, prims_, n, ray, *hit, Count ? counters : nullptr, nullptr, &blockRay);
+    return leaves.template test<AnyHit, Count>(ctx, LeafRefs{prims_, n}, ray, state, hit, counters);
   }
 
  private:

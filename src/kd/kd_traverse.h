@@ -122,6 +122,7 @@ bool kdWalk(const Tree& tree, RayQuery& ray, TraversalCounters* counters, Leaf&&
       });
       continue;
     }
+    if constexpr (Count) counters->leavesVisited += n.count() != 0;
     if (leaf(n)) {
       if constexpr (AnyHit) return true;
       found = true;
@@ -139,15 +140,16 @@ bool kdWalk(const Tree& tree, RayQuery& ray, TraversalCounters* counters, Leaf&&
   }
 }
 
-// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit.
+// Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit,
+// the leaves tested in the format `leaves` (leaves/leaf_format.h).
 // prims[i] is the primitive of reference index i. `filter(prim, ray)` may
 // reject a reference before its test (counted as a box test when active).
 // A leaf's surviving references are tested together (kd_leaf_batch.h).
-template <bool AnyHit, bool Count, class Filter = KdNoRefFilter>
-bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prims, RayQuery& ray, Hit* hit,
-                TraversalCounters* counters, const Filter& filter = {}) {
+template <bool AnyHit, bool Count, LeafFormat Leaves, class Filter = KdNoRefFilter>
+bool kdTraverse(const KdTree& tree, const Leaves& leaves, const SceneContext& ctx, const PrimRef* prims,
+                RayQuery& ray, Hit* hit, TraversalCounters* counters, const Filter& filter = {}) {
   KdMailbox mailbox;
-  const LeafBlockRay blockRay(ray);
+  const typename Leaves::RayState state = leaves.rayState(ray);
   const float time = ray.time;
   return kdWalk<AnyHit, Count>(tree, ray, counters, [&](const KdNode& n) {
     KdLeafBatch batch;
@@ -161,12 +163,12 @@ bool kdTraverse(const KdTree& tree, const SceneContext& ctx, const PrimRef* prim
         if (!filter(r.prim, ray)) continue;
       }
       batch.add(prims[r.prim]);
-      if (batch.full() && batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay)) {
+      if (batch.full() && batch.test<AnyHit, Count>(leaves, ctx, ray, hit, counters, state)) {
         if constexpr (AnyHit) return true;
         found = true;
       }
     }
-    return batch.test<AnyHit, Count>(ctx, ray, hit, counters, blockRay) || found;
+    return batch.test<AnyHit, Count>(leaves, ctx, ray, hit, counters, state) || found;
   });
 }
 

@@ -8,13 +8,16 @@
 #include "kd/kd_leaf_batch.h"
 #include "kd/kd_leaf_blocks.h"
 #include "kd/kd_traverse.h"
+#include "leaves/reference_leaves.h"
 #include "scene/primitive_bounds.h"
 #include "scene/scene_area.h"
 
 namespace mbrt::detail {
 namespace {
 
-class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
+// Leaves: the survivors of each leaf's block tests in the format `Leaves`.
+template <LeafFormat Leaves>
+class Mbkd final : public TracedStructure<Mbkd<Leaves>>, public Inspect {
  public:
   explicit Mbkd(const SceneContext& ctx) : ctx_(ctx) {
     const std::vector<PrimRef> all = ctx.primitives();
@@ -122,7 +125,7 @@ class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
   bool traceBlocks(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     KdPrimMailbox mailbox;
     const KdBlockRay blockRay(ray);
-    const LeafBlockRay triangleRay(ray);
+    const typename Leaves::RayState state = leaves_.rayState(ray);
     const float time = ray.time;
     return kdWalk<AnyHit, Count>(blocks_.cells, ray, counters, [&](const KdNode& n) {
       bool found = false;
@@ -139,13 +142,13 @@ class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
           if (!mailbox.seen(prim)) batch.add(prim);
         }
         if (batch.holdsABlock()) {
-          if (batch.test<AnyHit, Count>(ctx_, ray, hit, counters, triangleRay)) {
+          if (batch.test<AnyHit, Count>(leaves_, ctx_, ray, hit, counters, state)) {
             if constexpr (AnyHit) return true;
             found = true;
           }
         }
       }
-      if (batch.test<AnyHit, Count>(ctx_, ray, hit, counters, triangleRay)) {
+      if (batch.test<AnyHit, Count>(leaves_, ctx_, ray, hit, counters, state)) {
         if constexpr (AnyHit) return true;
         found = true;
       }
@@ -159,11 +162,10 @@ class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
   // A reference costs a lane of a streamed 8-wide block test (our leaves,
   // kd_leaf_blocks.h, not the paper's), while a cell step is a dependent
   // load: the build weighs a step as this many reference tests more than
-  // the paper's K_T (measured: 8-64 trade steps for leaf size, 16 is the
-  // fastest on hairball and skinned with the least memory but one;
-  // docs/mbkd.md).
+  // the paper's K_T (the sweep that chose it: docs/mbkd.md).
   static constexpr float kBlockStepWeight = 16.0f;
   KdLeafBlocks blocks_;
+  Leaves leaves_;
   KdTree tree_;  // the build's tree: its nodes give the cells; its references are in the blocks
   KdBuildStats stats_;
   SahSums sums_;
@@ -172,6 +174,8 @@ class Mbkd final : public TracedStructure<Mbkd>, public Inspect {
 
 }  // namespace
 
-std::unique_ptr<Structure> makeMbkd(const SceneContext& context) { return std::make_unique<Mbkd>(context); }
+std::unique_ptr<Structure> makeMbkd(const SceneContext& context) {
+  return std::make_unique<Mbkd<ReferenceLeaves>>(context);
+}
 
 }  // namespace mbrt::detail

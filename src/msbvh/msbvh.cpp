@@ -7,146 +7,24 @@
 #include <tbb/parallel_for.h>
 
 #include "bvh/inspect.h"
-#include "scene/leaf_intersect.h"
 #include "bvh/sah_cost.h"
 #include "bvh/traverse.h"
 #include "core/huge_pages.h"
-#include "core/simd.h"
 #include "core/traced_structure.h"
+#include "leaves/reference_leaves.h"
 #include "scene/branching.h"
 #include "scene/primitive_bounds.h"
 #include "scene/primitive_intersect.h"
 #include "msbvh/key_bounds.h"
+#include "msbvh/msbvh_nodes.h"
 #include "msbvh/sbvh_builder.h"
 
 namespace mbrt::detail {
 namespace {
 
-// Lanes without anything below: a box no ray can enter at any time, finite
-// so that interpolating two of them stays well defined.
-constexpr float kEmptyLo = 1e38f, kEmptyHi = -1e38f;
-constexpr uint32_t kEmptyChild = 0xFFFFFFFFu;
-
-// One key of one node: plane[axis][0 lower / 1 upper][lane].
-template <int N>
-struct alignas(32) KeyPlanes {
-  float plane[3][2][N];
-
-  void set(int lane, const Box3f& b) {
-    const bool e = b.empty();
-    for (int a = 0; a < 3; ++a) {
-      plane[a][0][lane] = e ? kEmptyLo : b.lower[a];
-      plane[a][1][lane] = e ? kEmptyHi : b.upper[a];
-    }
-  }
-  Box3f get(int lane) const {
-    Box3f b;
-    for (int a = 0; a < 3; ++a) {
-      b.lower[a] = plane[a][0][lane];
-      b.upper[a] = plane[a][1][lane];
-    }
-    return b.lower.x == kEmptyLo ? Box3f() : b;
-  }
-};
-
-template <int N>
-struct alignas(32) MsNode {
-  uint32_t child[N];  // inner: node index; leaf: first reference; kEmptyChild: empty lane
-  uint8_t count[N];   // 0: inner (or empty); > 0: leaf size
-  bool isEmpty(int lane) const { return child[lane] == kEmptyChild; }
-  bool isLeaf(int lane) const { return count[lane] != 0; }
-};
-
-// Nodes in one array of blocks: node i's header, then its n+1 keys. A node
-// visit reads one contiguous run of cache lines (header, keys k and k+1)
-// instead of two arrays, as a bvh-interp node is one block.
-template <int N>
-class NodeBlocks {
- public:
-  explicit NodeBlocks(uint32_t numKeys)
-      : numKeys_(numKeys), stride_((sizeof(MsNode<N>) + numKeys * sizeof(KeyPlanes<N>)) / sizeof(Chunk)) {}
-
-  size_t size() const { return chunks_.size() / stride_; }
-  bool empty() const { return chunks_.empty(); }
-  size_t bytes() const { return chunks_.size() * sizeof(Chunk); }
-  const void* data() const { return chunks_.data(); }
-
-  void reserve(size_t nodes) { reserveOnHugePages(chunks_, nodes * stride_); }
-  uint32_t add() {
-    const uint32_t index = uint32_t(size());
-    chunks_.resize(chunks_.size() + stride_);
-    ::new (at(index)) MsNode<N>();
-    for (uint32_t k = 0; k < numKeys_; ++k) ::new (&key(index, k)) KeyPlanes<N>();
-    return index;
-  }
-  MsNode<N>& node(uint32_t i) { return *std::launder(reinterpret_cast<MsNode<N>*>(at(i))); }
-  const MsNode<N>& node(uint32_t i) const { return *std::launder(reinterpret_cast<const MsNode<N>*>(at(i))); }
-  KeyPlanes<N>& key(uint32_t i, uint32_t k) { return keysOf(at(i))[k]; }
-  const KeyPlanes<N>& key(uint32_t i, uint32_t k) const { return keysOf(at(i))[k]; }
-
- private:
-  struct alignas(32) Chunk {
-    unsigned char bytes[32];
-  };
-  static_assert(sizeof(MsNode<N>) % sizeof(Chunk) == 0 && sizeof(KeyPlanes<N>) % sizeof(Chunk) == 0);
-  Chunk* at(uint32_t i) { return chunks_.data() + size_t(i) * stride_; }
-  const Chunk* at(uint32_t i) const { return chunks_.data() + size_t(i) * stride_; }
-  static KeyPlanes<N>* keysOf(Chunk* c) {
-    return std::launder(reinterpret_cast<KeyPlanes<N>*>(c + sizeof(MsNode<N>) / sizeof(Chunk)));
-  }
-  static const KeyPlanes<N>* keysOf(const Chunk* c) {
-    return std::launder(reinterpret_cast<const KeyPlanes<N>*>(c + sizeof(MsNode<N>) / sizeof(Chunk)));
-  }
-
-  uint32_t numKeys_;
-  size_t stride_;  // chunks per node
-  std::vector<Chunk> chunks_;
-};
-
-// The node ray (bvh/traverse.h) whose box time is the fraction between the
-// two keys around the ray's time.
-template <int W>
-struct KeyRay : NodeRay<W> {
-  uint32_t key;  // interval: keys key and key + 1
-
-  KeyRay(const RayQuery& ray, uint32_t segments)
-      : KeyRay(ray, segments, std::clamp(ray.time, 0.0f, 1.0f) * float(segments)) {}
-
- private:
-  KeyRay(const RayQuery& ray, uint32_t segments, float x)
-      : NodeRay<W>(ray, x - float(std::min(uint32_t(x), segments - 1))), key(std::min(uint32_t(x), segments - 1)) {}
-};
-
-// The node test at the interpolated box lerp(k0, k1, f) = k0 + f*(k1 - k0).
-template <int W, int N>
-inline uint32_t intersectKeys(const KeyPlanes<N>& k0, const KeyPlanes<N>& k1, const KeyRay<W>& r, float tfar,
-                              float* dist) {
-  using P = Pack<W>;
-  const P far = P::set1(tfar), inf = P::set1(kInf);
-  uint32_t mask = 0;
-  for (int base = 0; base < N; base += W) {
-    P tn = r.tnear, tf = inf;
-    for (int a = 0; a < 3; ++a) {
-      const int nearK = r.nearPlane[a], farK = 1 - nearK;
-      const P lo0 = P::load(&k0.plane[a][nearK][base]), lo1 = P::load(&k1.plane[a][nearK][base]);
-      const P hi0 = P::load(&k0.plane[a][farK][base]), hi1 = P::load(&k1.plane[a][farK][base]);
-      const P lo = fmadd(r.time, lo1 - lo0, lo0);  // r.time: the fraction between the keys
-      const P hi = fmadd(r.time, hi1 - hi0, hi0);
-      tn = vmax((lo - r.org[a]) * r.rdir[a], tn);
-      tf = vmin((hi - r.org[a]) * r.rdir[a], tf);
-    }
-    tf = vmin(robustFar(tf), far);
-    mask |= lessEqualMask(tn, tf) << base;
-    tn.store(dist + base);
-  }
-  return mask;
-}
-
-// The same arithmetic, one lane, for inspection.
-inline float lerpKey(float a, float b, float f) { return madd(f, b - a, a); }
-
-template <int N>
-class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
+// Leaves: the format `Leaves` (leaves/) over the tree's reference table.
+template <int N, LeafFormat Leaves>
+class Msbvh final : public TracedStructure<Msbvh<N, Leaves>>, public Inspect {
  public:
   explicit Msbvh(const SceneContext& ctx)
       : ctx_(ctx),
@@ -190,6 +68,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
       }
     }
     charge_ = std::make_unique<ScopedCharge>(budget, byteCount(), "the MSBVH nodes");
+    leaves_ = Leaves(ctx, leafTable());
   }
 
   std::any buildStats() const override { return &stats_; }
@@ -197,7 +76,7 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
-    sums.bytes = byteCount();
+    sums.bytes = byteCount() + leaves_.bytes();
     sums.references = prims_.size();
     if (!nodes_.empty()) {
       sums.innerNodes = nodes_.size();
@@ -235,6 +114,9 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
     if (nodes_.empty()) return numPrims_ == 0;
     computeLeafKeys();
     propagate();
+    const size_t before = leaves_.bytes();
+    leaves_ = Leaves(ctx_, leafTable());  // a format may keep the leaves' vertices
+    ctx_.budget().release(before);
     return true;
   }
 
@@ -436,12 +318,24 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
     return {first, end};
   }
 
-  friend class TracedStructure<Msbvh<N>>;
+  // Its leaves as the formats lay them out: every lane leaf, in node order.
+  LeafTable leafTable() const {
+    LeafTable t;
+    t.prims = prims_;
+    for (uint32_t i = 0; i < nodes_.size(); ++i)
+      for (int l = 0; l < N; ++l) {
+        const MsNode<N>& node = nodes_.node(i);
+        if (!node.isEmpty(l) && node.isLeaf(l)) t.leaves.push_back({node.child[l], node.count[l]});
+      }
+    return t;
+  }
+
+  friend class TracedStructure<Msbvh<N, Leaves>>;
   template <bool AnyHit, bool Count>
   bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     if (nodes_.empty()) return false;
     const KeyRay<packWidth<N>()> r(ray, n_);
-    const LeafBlockRay blockRay(ray);  // the leaves' runs are gathered into blocks
+    const typename Leaves::RayState state = leaves_.rayState(ray);
     return wideTraverse<AnyHit, Count, N>(
         stackSize_, ray, counters, [&](uint32_t i) -> const MsNode<N>& { return nodes_.node(i); },
         [&](const MsNode<N>&, uint32_t i, float* dist) {
@@ -449,9 +343,8 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
           return intersectKeys<packWidth<N>()>(k[0], k[1], r, ray.tfar, dist);
         },
         [&](const TraversalItem& leaf) {
-          const PrimRef* prims = prims_.data() + leaf.child;
-          if constexpr (AnyHit) return occludedLeaf(ctx_, prims, leaf.count, ray, nullptr, &blockRay);
-          else return intersectLeaf(ctx_, prims, leaf.count, ray, *hit, Count ? counters : nullptr, nullptr, &blockRay);
+          const LeafRefs refs{prims_.data() + leaf.child, leaf.count, leaf.child};
+          return leaves_.template test<AnyHit, Count>(ctx_, refs, ray, state, hit, counters);
         });
   }
 
@@ -466,13 +359,14 @@ class Msbvh final : public TracedStructure<Msbvh<N>>, public Inspect {
   uint32_t stackSize_ = 1;
   size_t numPrims_ = 0;
   std::unique_ptr<ScopedCharge> charge_;
+  Leaves leaves_;
   MsbvhStats stats_;
 };
 
 }  // namespace
 
 std::unique_ptr<Structure> makeMsbvh(const SceneContext& context) {
-  return makeForBranching<Msbvh>(context);
+  return makeForBranching<Msbvh, ReferenceLeaves>(context);
 }
 
 }  // namespace mbrt::detail

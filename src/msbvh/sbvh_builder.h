@@ -31,13 +31,13 @@ struct SbvhSettings {
   float alpha = 1e-5f;         // overlap threshold (1 disables spatial splits)
   // Spatial splits are also tried only where the object split's children
   // overlap by more than this fraction of the node's own area: below it
-  // they were almost never taken (docs/performance.md, "Builds": at 0.1
-  // the suite's SAH moves by at most 0.12%), and their binning, chopping
-  // every reference on three axes, is most of the build.
+  // they were almost never taken and the SAH barely moves
+  // (docs/performance.md, "Builds"), and their binning, chopping every
+  // reference on three axes, is most of the build.
   float nodeOverlap = 0.1f;
   // Spatial splits binned on the node box's longest axis only, not all
-  // three: a third of the chopping, and the suite's SAH within -0.4% ..
-  // +0.24% of binning all three (docs/performance.md, "Builds").
+  // three: a third of the chopping for an SAH within a fraction of a
+  // percent of binning all three (docs/performance.md, "Builds").
   bool spatialLongestAxisOnly = true;
   float maxGrowth = 0.3f;      // extra references, as a fraction of the primitives
   size_t parallelThreshold = 4096;

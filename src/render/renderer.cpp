@@ -29,7 +29,7 @@ constexpr IntegratorName kIntegrators[] = {{IntegratorKind::Normals, "normals"},
 // The camera ray of one sample; consumes the sampler's first five dimensions.
 Ray cameraSample(const RenderCamera& camera, const RenderOptions& o, int x, int y, int s, renderer::Sampler& smp) {
   const uint64_t pixel = uint64_t(y) * uint64_t(o.width) + uint64_t(x);
-  const float rotation = renderer::toUnitFloat(renderer::mix64(renderer::pixelKey(o.seed, pixel) ^ 0x7469'6d65ull));
+  const float rotation = toUnitFloat(mix64(renderer::pixelKey(o.seed, pixel) ^ 0x7469'6d65ull));
   const float px = float(x) + smp.next(), py = float(y) + smp.next();
   const float lu = smp.next(), lv = smp.next();
   const float u = renderer::stratified(s, o.spp, smp.next(), rotation);

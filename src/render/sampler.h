@@ -6,22 +6,14 @@
 #include <cmath>
 #include <cstdint>
 
+#include "mbrt/splitmix.h"
+
 namespace mbrt::renderer {
-
-// SplitMix64's finalizer: a bijective 64-bit mix with good avalanche.
-inline uint64_t mix64(uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-// Uniform in [0,1): the top 24 bits.
-inline float toUnitFloat(uint64_t bits) { return float(bits >> 40) * (1.0f / 16777216.0f); }
 
 // One pixel's key: sample-independent values (e.g. a per-pixel rotation of
 // the stratified times) come from here.
 inline uint64_t pixelKey(uint64_t seed, uint64_t pixel) {
-  return mix64(mix64(seed + 0x9E3779B97F4A7C15ull) ^ (pixel * 0xD1B54A32D192ED03ull));
+  return mix64(mix64(seed + kSplitMixGamma) ^ (pixel * 0xD1B54A32D192ED03ull));
 }
 
 // The stream of one camera sample of one pixel: next() gives dimension 0, 1, ...
@@ -30,7 +22,7 @@ class Sampler {
   Sampler(uint64_t seed, uint64_t pixel, uint32_t sample)
       : key_(mix64(pixelKey(seed, pixel) ^ (uint64_t(sample) * 0x8CB92BA72F3D8DD7ull + 0x632BE59BD9B4E019ull))) {}
 
-  float next() { return toUnitFloat(mix64(key_ + (++dim_) * 0x9E3779B97F4A7C15ull)); }
+  float next() { return toUnitFloat(mix64(key_ + (++dim_) * kSplitMixGamma)); }
   uint32_t dimension() const { return dim_; }
 
  private:

@@ -17,4 +17,14 @@ std::unique_ptr<Structure> makeForBranching(const SceneContext& context) {
   }
 }
 
+// The same for kinds made with a second parameter (a leaf format).
+template <template <int, class> class Kind, class Arg>
+std::unique_ptr<Structure> makeForBranching(const SceneContext& context) {
+  switch (context.options().branching) {
+    case 2: return std::make_unique<Kind<2, Arg>>(context);
+    case 4: return std::make_unique<Kind<4, Arg>>(context);
+    default: return std::make_unique<Kind<8, Arg>>(context);
+  }
+}
+
 }  // namespace mbrt::detail

@@ -14,7 +14,7 @@ struct Entry {
   ProceduralScene (*make)(double, uint64_t);
 };
 
-constexpr std::array<Entry, 8> kScenes{{
+constexpr std::array<Entry, 10> kScenes{{
     {"translate", scenes::makeTranslate},
     {"rotate", scenes::makeRotate},
     {"crowd", scenes::makeCrowd},
@@ -23,6 +23,8 @@ constexpr std::array<Entry, 8> kScenes{{
     {"deform", scenes::makeDeform},
     {"skinned", scenes::makeSkinned},
     {"demo", scenes::makeDemo},
+    {"slide", scenes::makeSlide},
+    {"ribbons", scenes::makeRibbons},
 }};
 
 constexpr double kMaxSize = 100.0;

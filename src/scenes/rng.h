@@ -10,16 +10,9 @@
 #include <vector>
 
 #include "mbrt/math.h"
+#include "mbrt/splitmix.h"
 
 namespace mbrt::scenes {
-
-// One splitmix64 step: advances `state` and returns a well-mixed value.
-constexpr uint64_t splitmix64(uint64_t& state) {
-  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 
 // Mixes two values into one (for deriving per-object seeds).
 constexpr uint64_t mixSeed(uint64_t a, uint64_t b) {

@@ -16,6 +16,8 @@ ProceduralScene makeHair(double size, uint64_t seed);
 ProceduralScene makeDeform(double size, uint64_t seed);
 ProceduralScene makeSkinned(double size, uint64_t seed);
 ProceduralScene makeDemo(double size, uint64_t seed);
+ProceduralScene makeSlide(double size, uint64_t seed);
+ProceduralScene makeRibbons(double size, uint64_t seed);
 
 // A camera looking at the box's centre from `direction` (need not be unit),
 // far enough back that the box's bounding sphere fills the vertical field of

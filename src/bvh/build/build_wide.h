@@ -19,37 +19,31 @@ inline BuildSettings settingsFor(const BuildOptions& o, TimeRange range) {
   return s;
 }
 
-// stbvh's C_T relative to C_I: the builder fills spare lanes by splitting
-// leaves (builder.h), so a leaf costs less than its segments say; 1.5 trades
-// the nodes this saves for a few more intersections (docs/stbvh.md).
-inline constexpr float kFilledTraversalScale = 1.5f;
+// What a kind sets of a build besides the options (BuildSettings' fields):
+// with a TemporalSource the builder also makes temporal splits (stbvh);
+// `leafBlock` (the leaf formats' block width, leaves/leaf_width.h);
+// `traversalScale` multiplies the options' C_T; `temporalLeafPenalty` is
+// λ against a leaf; `reuseTriedTemporalSplits` is off only in tests.
+struct WideBuildTuning {
+  const TemporalSource* temporal = nullptr;
+  int leafBlock = 1;
+  float traversalScale = 1.0f;
+  float temporalLeafPenalty = 1.0f;
+  bool reuseTriedTemporalSplits = true;
+};
 
-// stbvh's λ against a leaf (BuildSettings::temporalLeafPenalty). With C_T =
-// 1.5, a one-primitive leaf of straight motion over 5 segments (a temporal
-// split halves its segments, not its area) is split in time only below
-// λ = (1 - 1.5 / 5) / 0.52 = 1.35: 1.4 keeps such leaves whole, so linear
-// bounds carry linear motion (docs/stbvh.md, "Quantised motion nodes and
-// the MBSAH's own leaf test").
-inline constexpr float kTemporalLeafPenalty = 1.4f;
-
-// With a TemporalSource the builder also makes temporal splits (stbvh).
-// `reuseTriedTemporalSplits`, `leafBlock`: BuildSettings' (tests turn the
-// first off; `frozen` gives the second, for its leaf blocks).
 template <int N, bool Motion>
 void buildWideBvh(const SceneContext& ctx, std::span<const PrimRef> prims, const RefMaker& maker,
-                  WideBvh<N, Motion>& out, const TemporalSource* temporal = nullptr,
-                  bool reuseTriedTemporalSplits = true, int leafBlock = 1) {
+                  WideBvh<N, Motion>& out, const WideBuildTuning& tuning = {}) {
   BuildBudget& budget = ctx.budget();
   ScopedCharge refCharge(budget, prims.size() * (sizeof(BuildRef) + 1), "the BVH build references");
   std::vector<BuildRef> refs = makeBuildRefs(prims, maker);
   BuildSettings settings = settingsFor(ctx.options(), {0.0f, 1.0f});
-  settings.temporal = temporal;
-  settings.reuseTriedTemporalSplits = reuseTriedTemporalSplits;
-  settings.leafBlock = leafBlock;
-  if (temporal) {  // stbvh (docs/stbvh.md)
-    settings.traversalCost *= kFilledTraversalScale;
-    settings.temporalLeafPenalty = kTemporalLeafPenalty;
-  }
+  settings.temporal = tuning.temporal;
+  settings.reuseTriedTemporalSplits = tuning.reuseTriedTemporalSplits;
+  settings.leafBlock = tuning.leafBlock;
+  settings.traversalCost *= tuning.traversalScale;
+  settings.temporalLeafPenalty = tuning.temporalLeafPenalty;
   buildWideTree(refs, settings, budget, out);
 }
 

@@ -196,7 +196,7 @@ class Driver {
     const size_t first = size_t(it - tree_.prims.begin());
     chargeBlocks<PrimRef>(tree_.charge, first, c.refs.size(), "the BVH build's leaves");
     // Sorted by geometry: the leaf test takes one geometry's run at a time
-    // (scene/leaf_intersect.h). A leaf is small (its lane count is 8 bits).
+    // (leaves/leaf_runs.h). A leaf is small (its lane count is 8 bits).
     PrimRef leaf[UINT8_MAX];
     const size_t n = c.refs.size();
     for (size_t k = 0; k < n; ++k) leaf[k] = c.refs[k].prim;

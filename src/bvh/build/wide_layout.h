@@ -44,7 +44,7 @@ struct UnorderedWideBvh {
 // leaf starts at a multiple of leafBlock in the reference table (the gaps
 // repeat the leaf's last reference; WideBvh::paddingRefs counts them), so
 // that the leaf's k-th block is the table's block begin / leafBlock + k and
-// traversal reaches it without a map (leaf_blocks.h).
+// traversal reaches it without a map (leaves/triangle_blocks.h).
 template <int N, bool Motion>
 void layOut(const UnorderedWideBvh<N, Motion>& tree, WideBvh<N, Motion>& out, BuildBudget& budget,
             int leafBlock = 1);

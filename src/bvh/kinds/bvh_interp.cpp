@@ -2,13 +2,16 @@
 
 #include "bvh/kinds/bvh_structure.h"
 #include "bvh/sah_cost.h"
+#include "leaves/leaf_width.h"
+#include "leaves/motion_blocks.h"
 
 namespace mbrt::detail {
 namespace {
 
+// Leaves: motion blocks, the vertices of four triangles at every step.
 template <int N>
-class BvhInterp final : public WideBvhStructure<N, true> {
-  using Base = WideBvhStructure<N, true>;
+class BvhInterp final : public WideBvhStructure<N, true, MotionBlockLeaves> {
+  using Base = WideBvhStructure<N, true, MotionBlockLeaves>;
   using Base::bvh_;
   using Base::ctx_;
 
@@ -16,16 +19,16 @@ class BvhInterp final : public WideBvhStructure<N, true> {
   explicit BvhInterp(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     numPrims_ = prims.size();
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, nullptr, true, triangleLeafBlockWidth(ctx));
-    Base::motionBlocks_ = MotionLeafBlocks(ctx, bvh_);
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, {.leafBlock = triangleLeafBlockWidth(ctx)});
+    Base::layOutLeaves();
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, {0.0f, 1.0f}); }, sums);
-    sums.bytes += Base::motionBlocks_.bytes();
+    sums.bytes += Base::leaves_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
-    s.leafBlockBytes = Base::motionBlocks_.bytes();
+    s.leafBlockBytes = Base::leaves_.bytes();
   }
 
   // Same topology, new bounds: leaves from the primitives, inner lanes from
@@ -40,11 +43,10 @@ class BvhInterp final : public WideBvhStructure<N, true> {
     bool ok = true;
     refitNode(0, ok);
     if (!ok) return false;
-    if (!Base::motionBlocks_.empty()) {  // the vertices moved: the blocks are made again
-      const size_t before = Base::motionBlocks_.bytes();
-      Base::motionBlocks_ = MotionLeafBlocks(ctx_, bvh_);
-      ctx_.budget().release(before);
-    }
+    // The vertices moved: the blocks are made again.
+    const size_t before = Base::leaves_.bytes();
+    Base::layOutLeaves();
+    ctx_.budget().release(before);
     return true;
   }
 

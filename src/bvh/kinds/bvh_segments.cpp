@@ -7,11 +7,14 @@
 
 #include "bvh/build/build_wide.h"
 #include "bvh/inspect.h"
+#include "bvh/leaf_table.h"
 #include "bvh/sah_cost.h"
 #include "bvh/traverse.h"
 #include "core/isolated_work.h"
 #include "core/traced_structure.h"
 #include "scene/branching.h"
+#include "leaves/leaf_width.h"
+#include "leaves/reference_triangles.h"
 #include "scene/primitive_bounds.h"
 
 namespace mbrt::detail {
@@ -45,22 +48,23 @@ struct SegmentRefs final : RefMaker {
   }
 };
 
-template <int N>
-class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect {
+// Leaves: references gathered into blocks at the ray's time, through their
+// triangles' indices kept beside them where that pays (makeBvhSegments).
+template <int N, class Leaves>
+class BvhSegments final : public TracedStructure<BvhSegments<N, Leaves>>, public Inspect {
  public:
   explicit BvhSegments(const SceneContext& ctx) : ctx_(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     const uint32_t n = std::max(1u, ctx.scene().maxSegments());
     trees_.resize(n);
-    refTriangles_.resize(n);
+    leaves_.resize(n);
     // Independent trees: built side by side (each is deterministic), each
     // isolated so that one running out of budget cannot cut another short.
     const int leafBlock = triangleLeafBlockWidth(ctx);
-    const bool indices = leafBlock > 1 && ReferenceTriangles::pays(ctx);
     tbb::parallel_for(0u, n, [&](uint32_t i) {
       runIsolatedFromCancellation([&] {
-        buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i], nullptr, true, leafBlock);
-        if (indices) refTriangles_[i] = ReferenceTriangles(ctx, trees_[i].prims);
+        buildWideBvh(ctx, prims, SegmentRefs(ctx, segmentRange(i, n)), trees_[i], {.leafBlock = leafBlock});
+        leaves_[i] = Leaves(ctx, leafTable(trees_[i]));
       });
     });
   }
@@ -69,9 +73,7 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
   bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
     float local;
     const uint32_t i = segmentOf(ray.time, uint32_t(trees_.size()), local);
-    const ReferenceTriangles* indices = refTriangles_[i].empty() ? nullptr : &refTriangles_[i];
-    return traverse<AnyHit, Count>(trees_[i], ctx_, ray, local, hit, counters, nullptr, nullptr, nullptr, nullptr,
-                                   indices);
+    return traverse<AnyHit, Count>(trees_[i], leaves_[i], ctx_, ray, local, hit, counters);
   }
 
   // All trees summed, each covering T = 1/N.
@@ -81,7 +83,7 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
     for (uint32_t i = 0; i < n; ++i) {
       const TimeRange r = segmentRange(i, n);
       addTreeCost(trees_[i], 1.0 / n, [&](PrimRef p, TimeRange) { return activeSegments(ctx_, p, r); }, sums);
-      sums.bytes += refTriangles_[i].bytes();
+      sums.bytes += leaves_[i].bytes();
     }
     sums.fill(s, sceneSahArea(ctx_));
   }
@@ -107,13 +109,15 @@ class BvhSegments final : public TracedStructure<BvhSegments<N>>, public Inspect
  private:
   const SceneContext& ctx_;
   std::vector<WideBvh<N, true>> trees_;
-  std::vector<ReferenceTriangles> refTriangles_;  // per tree, when its leaves are charged per block
+  std::vector<Leaves> leaves_;  // per tree
 };
 
 }  // namespace
 
 std::unique_ptr<Structure> makeBvhSegments(const SceneContext& context) {
-  return makeForBranching<BvhSegments>(context);
+  if (triangleLeafBlockWidth(context) > 1 && ReferenceTriangleLeaves::pays(context))
+    return makeForBranching<BvhSegments, ReferenceTriangleLeaves>(context);
+  return makeForBranching<BvhSegments, ReferenceLeaves>(context);
 }
 
 }  // namespace mbrt::detail

@@ -1,6 +1,7 @@
 // What the wide-BVH kinds (`bvh-interp`, `stbvh`, `frozen`) have in common:
-// one WideBvh traced by traverse.h and its bytes. Each
-// kind only says how it builds the tree and counts its SAH.
+// one WideBvh traced by traverse.h with its leaves in one leaf format, and
+// its bytes. Each kind only says how it builds the tree, which format its
+// leaves take, and how it counts its SAH.
 #pragma once
 
 #include <memory>
@@ -8,6 +9,7 @@
 #include "bvh/build/build_wide.h"
 #include "bvh/inspect.h"
 #include "bvh/heuristics/temporal_split.h"
+#include "bvh/leaf_table.h"
 #include "bvh/traverse.h"
 #include "core/traced_structure.h"
 #include "scene/branching.h"
@@ -53,17 +55,20 @@ struct SceneTemporalSource final : TemporalSource {
 };
 
 // Motion trees interpolate the node boxes at the ray's time; a static tree
-// (`frozen`) sees every ray at its one time `frozenTime`.
-template <int N, bool Motion>
-class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, public Inspect {
+// (`frozen`) sees every ray at its one time `frozenTime`. `Leaves` is the
+// leaf format (leaves/), laid out by the kind once its tree is built
+// (layOutLeaves).
+template <int N, bool Motion, LeafFormat Leaves>
+class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion, Leaves>>, public Inspect {
  public:
   template <bool AnyHit, bool Count>
   bool trace(RayQuery& ray, Hit* hit, TraversalCounters* counters) const {
-    return traverse<AnyHit, Count>(bvh_, ctx_, ray, boxTime(ray), hit, counters,
-                                   stored_.first.empty() ? nullptr : &stored_, blocks_.empty() ? nullptr : &blocks_,
-                                   motionBlocks_.empty() ? nullptr : &motionBlocks_,
-                                   segmentBlocks_.empty() ? nullptr : &segmentBlocks_,
-                                   refTriangles_.empty() ? nullptr : &refTriangles_);
+    if constexpr (Motion) {
+      return traverse<AnyHit, Count>(bvh_, leaves_, ctx_, ray, ray.time, hit, counters);
+    } else {
+      ray.time = frozenTime_;  // every ray sees the scene at the frozen time; the nodes have no time
+      return traverse<AnyHit, Count>(bvh_, leaves_, ctx_, ray, 0.0f, hit, counters);
+    }
   }
   std::vector<uint8_t> bytes() const override {
     std::vector<uint8_t> out;
@@ -75,23 +80,16 @@ class WideBvhStructure : public TracedStructure<WideBvhStructure<N, Motion>>, pu
   explicit WideBvhStructure(const SceneContext& ctx, float frozenTime = 0.0f)
       : ctx_(ctx), frozenTime_(frozenTime) {}
 
+  // The leaves laid out over the tree as it is now (after a build or refit).
+  void layOutLeaves() {
+    std::optional<float> fixed;
+    if constexpr (!Motion) fixed = frozenTime_;
+    leaves_ = Leaves(ctx_, leafTable(bvh_, fixed));
+  }
+
   const SceneContext& ctx_;
   WideBvh<N, Motion> bvh_;
-  FixedTimeTriangles stored_;  // static trees: the triangles at the frozen time (scene/leaf_intersect.h)
-  TriangleLeafBlocks blocks_;  // static trees: leaves as blocks of 4 at the frozen time (leaf_blocks.h)
-  MotionLeafBlocks motionBlocks_;  // motion trees: leaves as blocks of 4 at every step (motion_leaf_blocks.h)
-  SegmentLeafBlocks segmentBlocks_;  // static trees of segments: blocks of 4 at the frozen time (segment_leaf_blocks.h)
-  ReferenceTriangles refTriangles_;  // trees gathering blocks: each reference's triangle (scene/leaf_intersect.h)
-
- private:
-  float boxTime(RayQuery& ray) const {
-    if constexpr (Motion) {
-      return ray.time;
-    } else {
-      ray.time = frozenTime_;
-      return 0.0f;
-    }
-  }
+  Leaves leaves_;
   float frozenTime_;
 };
 

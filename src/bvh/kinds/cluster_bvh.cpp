@@ -5,9 +5,12 @@
 
 #include "bvh/build/build_wide.h"
 #include "bvh/sah_cost.h"
+#include "bvh/leaf_table.h"
 #include "bvh/traverse.h"
 #include "core/traced_structure.h"
 #include "decompose/fuzzy_boxes.h"
+#include "leaves/leaf_width.h"
+#include "leaves/motion_blocks.h"
 #include "scene/instance_space.h"
 #include "scene/primitive_bounds.h"
 
@@ -32,8 +35,8 @@ class ClusterBvh final : public TracedStructure<ClusterBvh<N>> {
   ClusterBvh(const SceneContext& ctx, std::span<const Affine3f> maps, const std::vector<PrimRef>& prims,
              const std::vector<Box3f>& fuzzy)
       : ctx_(ctx), maps_(maps.begin(), maps.end()) {
-    buildWideBvh(ctx, prims, FuzzyRefs(fuzzy), bvh_, nullptr, true, leafBlockWidth(prims.size(), prims.size()));
-    blocks_ = MotionLeafBlocks(ctx, bvh_);
+    buildWideBvh(ctx, prims, FuzzyRefs(fuzzy), bvh_, {.leafBlock = leafBlockWidth(prims.size(), prims.size())});
+    leaves_ = MotionBlockLeaves(ctx, leafTable(bvh_));
   }
 
   template <bool AnyHit, bool Count>
@@ -45,23 +48,22 @@ class ClusterBvh final : public TracedStructure<ClusterBvh<N>> {
     g.segmentAt(ray.time, s, f);
     RayQuery local;  // the ray in the cluster's frame, the same parameter t
     if (!toLocalSpace(lerp(maps_[s], maps_[s + 1], f), ray, local, nullptr)) return false;
-    return traverse<AnyHit, Count>(bvh_, ctx_, local, ray, 0.0f, hit, counters, nullptr, nullptr,
-                                   blocks_.empty() ? nullptr : &blocks_);
+    return traverse<AnyHit, Count>(bvh_, leaves_, ctx_, local, ray, 0.0f, hit, counters);
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
-    sums.bytes += blocks_.bytes() + maps_.size() * sizeof(Affine3f);
+    sums.bytes += leaves_.bytes() + maps_.size() * sizeof(Affine3f);
     sums.fill(s, sceneSahArea(ctx_));
-    s.leafBlockBytes = blocks_.bytes();
+    s.leafBlockBytes = leaves_.bytes();
   }
 
  private:
   const SceneContext& ctx_;
   std::vector<Affine3f> maps_;
   WideBvh<N, false> bvh_;
-  MotionLeafBlocks blocks_;
+  MotionBlockLeaves leaves_;  // motion blocks: the leaves' triangles move in world space
 };
 
 template <int N>

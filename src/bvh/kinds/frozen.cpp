@@ -4,9 +4,30 @@
 
 #include "bvh/kinds/bvh_structure.h"
 #include "bvh/sah_cost.h"
+#include "leaves/fixed_time_triangles.h"
+#include "leaves/segment_blocks.h"
+#include "leaves/triangle_blocks.h"
 
 namespace mbrt::detail {
 namespace {
+
+// The leaf block the frozen tree's SAH charges (leaf_width.h): four when
+// most primitives are triangles stored at the frozen time
+// (FixedTimeTriangles) or plain segments alive then, whichever are more.
+struct FrozenLeafBlock {
+  int width;
+  bool segments;  // the blocks are of segments
+};
+FrozenLeafBlock frozenLeafBlock(const SceneContext& ctx) {
+  const float time = ctx.options().frozenTime;
+  const std::vector<PrimRef> prims = ctx.primitives();
+  size_t triangles = FixedTimeTriangles::countStored(ctx, time);
+  if (3 * triangles >= FixedTimeTriangles::kNotStored) triangles = 0;  // too many to store: none are
+  const size_t segments = size_t(std::count_if(prims.begin(), prims.end(), [&](PrimRef p) {
+    return blocksSegments(ctx.geometry(p.geomID), time);
+  }));
+  return {leafBlockWidth(std::max(triangles, segments), prims.size()), segments > triangles};
+}
 
 // The (widened) box of each primitive at the frozen time.
 struct FrozenRefs final : RefMaker {
@@ -22,9 +43,13 @@ struct FrozenRefs final : RefMaker {
   }
 };
 
-template <int N>
-class Frozen final : public WideBvhStructure<N, false> {
-  using Base = WideBvhStructure<N, false>;
+// Leaves (makeFrozen): triangle blocks at the frozen time where the leaves
+// are charged per block of four triangles, segment blocks where they are
+// charged per block of four segments, else the triangles stored at the
+// frozen time, one by one.
+template <int N, class Leaves>
+class Frozen final : public WideBvhStructure<N, false, Leaves> {
+  using Base = WideBvhStructure<N, false, Leaves>;
   using Base::bvh_;
   using Base::ctx_;
 
@@ -32,36 +57,16 @@ class Frozen final : public WideBvhStructure<N, false> {
   // Every ray sees the scene at the frozen time.
   explicit Frozen(const SceneContext& ctx) : Base(ctx, ctx.options().frozenTime), time_(ctx.options().frozenTime) {
     const std::vector<PrimRef> prims = ctx.primitives();
-    Base::stored_ = FixedTimeTriangles(ctx, time_);
-    // Leaves charged per block of four (Embree's Triangle4 SAH) and laid
-    // out as blocks when most primitives are stored triangles
-    // (leaf_blocks.h) or segments (segment_leaf_blocks.h).
-    const size_t triangles = Base::stored_.vertices.size() / 3;
-    const size_t segments = size_t(std::count_if(prims.begin(), prims.end(), [&](PrimRef p) {
-      return blocksSegments(ctx.geometry(p.geomID), time_);
-    }));
-    const bool segmentTree = segments > triangles;
-    const int leafBlock = leafBlockWidth(std::max(triangles, segments), prims.size());
-    buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_, nullptr, true, leafBlock);
-    if (segmentTree) Base::segmentBlocks_ = SegmentLeafBlocks(ctx, bvh_, time_);
-    else Base::blocks_ = TriangleLeafBlocks(ctx, bvh_, Base::stored_, time_);
-    if (leafBlock > 1) {
-      // No leaf is kept in a node (wide_layout.h), so every leaf of stored
-      // triangles reads its blocks; the few others (a geometry with a filter
-      // beside them) interpolate at the frozen time through the indices, to
-      // the same values. The stored triangles are not needed any more.
-      ctx.budget().release(Base::stored_.vertices.size() * sizeof(Vec3f));
-      Base::stored_ = FixedTimeTriangles();
-    }
+    buildWideBvh(ctx, prims, FrozenRefs(ctx, time_), bvh_, {.leafBlock = frozenLeafBlock(ctx).width});
+    Base::layOutLeaves();
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [](PrimRef, TimeRange) { return 1u; }, sums);
-    const size_t leafBytes = Base::stored_.bytes() + Base::blocks_.bytes() + Base::segmentBlocks_.bytes();
-    sums.bytes += leafBytes;
+    sums.bytes += Base::leaves_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
-    s.leafBlockBytes = leafBytes;
+    s.leafBlockBytes = Base::leaves_.bytes();
   }
 
   void forEachLane(const std::function<void(const LaneView&)>& fn) const override {
@@ -78,7 +83,10 @@ class Frozen final : public WideBvhStructure<N, false> {
 }  // namespace
 
 std::unique_ptr<Structure> makeFrozen(const SceneContext& context) {
-  return makeForBranching<Frozen>(context);
+  const FrozenLeafBlock block = frozenLeafBlock(context);
+  if (block.width == 1) return makeForBranching<Frozen, FixedTimeLeaves>(context);
+  if (block.segments) return makeForBranching<Frozen, SegmentBlockLeaves>(context);
+  return makeForBranching<Frozen, TriangleBlockLeaves>(context);
 }
 
 }  // namespace mbrt::detail

@@ -1,14 +1,19 @@
 #include "bvh/kinds/stbvh.h"
 
 #include "bvh/kinds/bvh_structure.h"
+#include "bvh/kinds/stbvh_tuning.h"
 #include "bvh/sah_cost.h"
+#include "leaves/leaf_width.h"
+#include "leaves/reference_triangles.h"
 
 namespace mbrt::detail {
 namespace {
 
-template <int N>
-class Stbvh final : public WideBvhStructure<N, true> {
-  using Base = WideBvhStructure<N, true>;
+// Leaves: references gathered into blocks at the ray's time, through their
+// triangles' indices kept beside them where that pays (makeStbvh).
+template <int N, class Leaves>
+class Stbvh final : public WideBvhStructure<N, true, Leaves> {
+  using Base = WideBvhStructure<N, true, Leaves>;
   using Base::bvh_;
   using Base::ctx_;
 
@@ -16,15 +21,14 @@ class Stbvh final : public WideBvhStructure<N, true> {
   explicit Stbvh(const SceneContext& ctx) : Base(ctx) {
     const std::vector<PrimRef> prims = ctx.primitives();
     const SceneTemporalSource timing(ctx);
-    const int leafBlock = triangleLeafBlockWidth(ctx);
-    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, &timing, true, leafBlock);
-    if (leafBlock > 1 && ReferenceTriangles::pays(ctx)) Base::refTriangles_ = ReferenceTriangles(ctx, bvh_.prims);
+    buildWideBvh(ctx, prims, ShutterRefs(ctx), bvh_, stbvhTuning(timing, triangleLeafBlockWidth(ctx)));
+    Base::layOutLeaves();
   }
 
   void fillStats(AccelStats& s) const override {
     SahSums sums;
     addTreeCost(bvh_, 1.0, [&](PrimRef p, TimeRange r) { return activeSegments(ctx_, p, r); }, sums);
-    sums.bytes += Base::refTriangles_.bytes();
+    sums.bytes += Base::leaves_.bytes();
     sums.fill(s, sceneSahArea(ctx_));
   }
 
@@ -40,7 +44,9 @@ class Stbvh final : public WideBvhStructure<N, true> {
 }  // namespace
 
 std::unique_ptr<Structure> makeStbvh(const SceneContext& context) {
-  return makeForBranching<Stbvh>(context);
+  if (triangleLeafBlockWidth(context) > 1 && ReferenceTriangleLeaves::pays(context))
+    return makeForBranching<Stbvh, ReferenceTriangleLeaves>(context);
+  return makeForBranching<Stbvh, ReferenceLeaves>(context);
 }
 
 }  // namespace mbrt::detail
