@@ -47,6 +47,11 @@ class AccelUpdater {
   explicit AccelUpdater(UpdatePolicy policy = UpdatePolicy::Auto, double rebuildFactor = 1.5);
   UpdatePolicy policy() const { return policy_; }
   double rebuildFactor() const { return rebuildFactor_; }
+  // `options` as an accel this policy updates is best built with: under
+  // Refit and Auto, BuildOptions::autoForRefits (auto builds only what
+  // refits). What update(accel, scene, options) builds with; a Builder
+  // should build with it too.
+  BuildOptions buildOptions(BuildOptions options) const;
 
   // Brings `accel` up to date with `scene` after the scene changed. A new
   // Accel is built with `build` when `accel` is null, was built over another
@@ -54,7 +59,7 @@ class AccelUpdater {
   // as an Animation's scene is when its layout changes: "rebuild (new
   // layout)"); otherwise the accel is refitted or rebuilt by the policy.
   AccelUpdate update(std::unique_ptr<Accel>& accel, const Scene& scene, const Builder& build);
-  // The same, building with `options`.
+  // The same, building with buildOptions(options).
   AccelUpdate update(std::unique_ptr<Accel>& accel, const Scene& scene, const BuildOptions& options);
 
  private:

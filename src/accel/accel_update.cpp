@@ -35,8 +35,14 @@ AccelUpdater::AccelUpdater(UpdatePolicy policy, double rebuildFactor) : policy_(
     throw Error("the rebuild factor must be a number of at least 1, got " + std::to_string(rebuildFactor));
 }
 
+BuildOptions AccelUpdater::buildOptions(BuildOptions options) const {
+  options.autoForRefits = policy_ != UpdatePolicy::Rebuild;
+  return options;
+}
+
 AccelUpdate AccelUpdater::update(std::unique_ptr<Accel>& accel, const Scene& scene, const BuildOptions& options) {
-  return update(accel, scene, [&](const Scene& s) { return Accel::build(s, options); });
+  const BuildOptions o = buildOptions(options);
+  return update(accel, scene, [&](const Scene& s) { return Accel::build(s, o); });
 }
 
 AccelUpdate AccelUpdater::update(std::unique_ptr<Accel>& accel, const Scene& scene, const Builder& build) {

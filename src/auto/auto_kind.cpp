@@ -47,7 +47,7 @@ AutoStructure::AutoStructure(const SceneContext& ctx)
   for (uint32_t id = 0; id < ctx.scene().numGeometries(); ++id)
     if (ctx.geometry(id).type() == GeometryType::Instance)
       userStructures_[ctx.geometry(id).instancedScene()] = &ctx.child(id);
-  plan_ = planDecomposition(ctx.scene(), ctx.options().autoFitTolerance);
+  plan_ = planDecomposition(ctx.scene(), ctx.options().autoFitTolerance, !ctx.options().autoForRefits);
   if (!plan_.extracts()) {
     buildDirect();
     return;

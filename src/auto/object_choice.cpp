@@ -152,8 +152,10 @@ BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBu
     b = chooseAmong({AccelKind::Frozen, AccelKind::BvhInterp}, scene, options, budget, registry, children);
     b.why = "static: " + b.why;
   } else {
-    b = chooseAmong(std::vector<AccelKind>(std::begin(kMovingCandidates), std::end(kMovingCandidates)), scene,
-                    options, budget, registry, children);
+    std::vector<AccelKind> kinds;
+    for (AccelKind k : kMovingCandidates)
+      if (!options.autoForRefits || refitsInPlace(k)) kinds.push_back(k);
+    b = chooseAmong(kinds, scene, options, budget, registry, children);
   }
   chargeKept(*b.budget, budget);
   return b;
