@@ -41,7 +41,7 @@ declare -A ALLOWED=(
 declare -A PUBLIC=(
   [error.h]=core [math.h]=core [quaternion.h]=core [ray.h]=core
   [build_options.h]=core [accel_stats.h]=core [camera.h]=core [splitmix.h]=core
-  [scene.h]=scene [scene_bounds.h]=scene
+  [scene.h]=scene
   [accel.h]=accel [accel_update.h]=accel
   [mbrt.h]=c
   [scenes.h]=scenes

@@ -367,7 +367,7 @@ TEST(FuzzyKd, ClusterPictureColoursEachPixelByItsCluster) {
   EXPECT_THROW(render(desc, *other, o), Error);
 }
 
-// fillStats reports DESIGN.md's SAH (no longer 0): positive, finite and
+// fillStats reports the SAH of docs/design.md (no longer 0): positive, finite and
 // far below brute's (every primitive tested).
 TEST(FuzzyKd, StatsReportTheSahOfTheFuzzyTrees) {
   const ProceduralScene ps = makeProceduralScene("skinned", 0.03, 3);

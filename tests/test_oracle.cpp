@@ -74,7 +74,7 @@ TEST_P(Oracle, AgreesWithBruteForce) {
     rays = test::oracleRays(ps, 3000, 60, 7);
     if (c.kind == AccelKind::Embree) {
       // Embree treats the ends of a partial time range with a small slack
-      // (DESIGN.md): compare away from them.
+      // (docs/design.md): compare away from them.
       std::vector<float> ends;
       for (uint32_t id = 0; id < ps.scene->numGeometries(); ++id) {
         const TimeRange r = ps.scene->geometry(id).timeRange();

@@ -1,5 +1,5 @@
 // The procedural scene suite: every scene builds and validates, has the step
-// counts and geometry types of DESIGN.md's table, is deterministic, scales
+// counts and geometry types of docs/design.md's suite table, is deterministic, scales
 // with `size`, refuses bad arguments, and is framed by its camera.
 #include <gtest/gtest.h>
 
@@ -157,7 +157,7 @@ TEST(Scenes, CountsScaleWithSize) {
 }
 
 TEST(Scenes, DefaultSizesMatchTheTable) {
-  // Size 1 gives DESIGN.md's counts within 10 % (no accel built).
+  // Size 1 gives docs/design.md's counts within 10 % (no accel built).
   const std::map<std::string, std::pair<GeometryType, size_t>> table{
       {"translate", {GeometryType::Triangles, 200000}}, {"rotate", {GeometryType::Triangles, 200000}},
       {"crowd", {GeometryType::Triangles, 100 * 4000 + 50000}}, {"hairball", {GeometryType::Triangles, 300000}},

@@ -8,7 +8,7 @@
 
 namespace mbrt {
 
-// Structure statistics. sahCost follows DESIGN.md's one formula for all
+// Structure statistics. sahCost follows the one SAH formula of docs/design.md for all
 // kinds (C_T = C_I = 1, areas averaged over time, MBSAH segment counts).
 struct AccelStats {
   std::string kind;

@@ -1,6 +1,6 @@
 // The benchmark engine behind `mbrt bench`: every structure on the same ray
 // sets per scene (primary, secondary, shadow, and the secondary rays at the
-// frozen times), the papers' metrics (DESIGN.md, "How to measure"), hit
+// frozen times), the papers' metrics (docs/design.md, "How we measure"), hit
 // agreement with brute and Embree, Embree in its default, robust and static
 // modes, and the geometric means of the best mbrt kind over each Embree mode.
 // Library mbrt::bench; used by tools/cmd_bench.cpp and the tests.
@@ -26,9 +26,13 @@ namespace mbrt::bench {
 // scene into its bounds). Shadow rays go through `occluded`. Frozen is the
 // secondary set built from primaries at the frozen times (each ray sits on
 // one), the set `frozen`, `embree-static` and `embree-static-robust` trace.
-enum class RaySet { Primary, Secondary, Shadow, Frozen };
-constexpr int kRaySets = 4;
-constexpr std::array<RaySet, kRaySets> kAllRaySets{RaySet::Primary, RaySet::Secondary, RaySet::Shadow, RaySet::Frozen};
+// Incoherent rays come from all around the scene at points of its
+// primitives (incoherentRays): nearly all hit, none shares a path with the
+// next, and none depends on a camera (the kernel's cost of a visit).
+enum class RaySet { Primary, Secondary, Shadow, Frozen, Incoherent };
+constexpr int kRaySets = 5;
+constexpr std::array<RaySet, kRaySets> kAllRaySets{RaySet::Primary, RaySet::Secondary, RaySet::Shadow, RaySet::Frozen,
+                                                   RaySet::Incoherent};
 std::string_view toString(RaySet set);
 constexpr bool isOcclusion(RaySet set) { return set == RaySet::Shadow; }
 
@@ -39,7 +43,7 @@ class Target {
   // Closest hits / any hits, in parallel in the caller's TBB arena.
   virtual void trace(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
   virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const = 0;
-  // Counted pass (DESIGN.md's traversal steps); false when the structure
+  // Counted pass (docs/design.md's work per ray); false when the structure
   // has no counters (Embree).
   virtual bool traceCounted(std::span<const Ray> rays, std::span<Hit> hits, TraversalCounters& c) const = 0;
   virtual AccelStats stats() const = 0;

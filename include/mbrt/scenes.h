@@ -1,4 +1,4 @@
-// The built-in procedural scene suite (DESIGN.md, "Scene suite"):
+// The built-in procedural scene suite (docs/design.md, "The scene suite"):
 // deterministic, seeded, with a size knob. size = 1 gives the default sizes
 // every issue's figures refer to; tests use small sizes (e.g. 0.005).
 #pragma once

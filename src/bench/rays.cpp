@@ -1,4 +1,4 @@
-// The bench's ray sets (DESIGN.md, "How to measure"): primary camera rays at
+// The bench's ray sets (docs/design.md, "How we measure"): primary camera rays at
 // random times; secondary rays (a cosine bounce from every primary hit, and
 // rays from all around the scene into its bounds); shadow rays from the
 // primary hits towards an area light and towards other hit points; and the
@@ -168,6 +168,8 @@ std::string_view toString(RaySet set) {
       return "shadow";
     case RaySet::Frozen:
       return "frozen";
+    case RaySet::Incoherent:
+      return "incoherent";
   }
   return "unknown";
 }
@@ -184,6 +186,7 @@ RaySets makeRaySets(const ProceduralScene& ps, const Target& reference, int widt
   secondaryRays(pts, ps.camera, n, seed ^ 0x5bd1e995u, eps, {}, out, RaySet::Secondary);
   if (secondaryOnly) return out;
   out.sets[size_t(RaySet::Shadow)] = shadowRays(pts, ps.camera, n, seed, eps);
+  out.sets[size_t(RaySet::Incoherent)] = incoherentRays(*ps.scene, n, seed ^ 0x696e636f68ull);
   out.sets[size_t(RaySet::Primary)] = std::move(primary);
 
   std::vector<Ray> frozenPrimary = cameraRays(ps.camera, width, height, seed, &frozenTimes);

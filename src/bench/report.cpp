@@ -59,7 +59,8 @@ std::string setLine(const SceneInfo& info) {
   std::string line = "Rays: " + one(RaySet::Primary, "hit") + ", " + one(RaySet::Secondary, "hit");
   if (info.bounces + info.inward > 0)
     line += " = " + std::to_string(info.bounces) + " bounces + " + std::to_string(info.inward) + " from around";
-  line += ", " + one(RaySet::Shadow, "occluded") + ", " + one(RaySet::Frozen, "hit") + ".";
+  line += ", " + one(RaySet::Shadow, "occluded") + ", " + one(RaySet::Frozen, "hit") + ", " +
+          one(RaySet::Incoherent, "hit") + ".";
   return line;
 }
 
@@ -99,8 +100,8 @@ void sceneTable(std::ostringstream& out, const Report& report, const SceneInfo& 
   out << "| accel | build s | Mprims/s | MB | peak MB | SAH | steps | box tests | isects | primary Mrays/s"
          " | secondary Mrays/s 1t | secondary Mrays/s mt | shadow Mrays/s | sec ÷ embree | sec ÷ embree-robust"
          " | mem ÷ embree | build ÷ embree | frozen set Mrays/s | frozen ÷ embree-static"
-         " | frozen ÷ embree-static-robust | mismatches |\n";
-  out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         " | frozen ÷ embree-static-robust | incoherent Mrays/s | inc ÷ embree | mismatches |\n";
+  out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Result& r : report.results) {
     if (r.scene != scene) continue;
     const SetResult& sec = r.set(RaySet::Secondary);
@@ -113,7 +114,8 @@ void sceneTable(std::ostringstream& out, const Report& report, const SceneInfo& 
         << (embree && embree->bytes ? fmt(double(r.bytes) / double(embree->bytes)) : "–") << " | "
         << (embree && embree->buildS > 0 ? fmt(r.buildS / embree->buildS) : "–") << " | "
         << setMt(r, RaySet::Frozen) << " | " << setRatio(r, estatic, RaySet::Frozen) << " | "
-        << setRatio(r, estaticRobust, RaySet::Frozen) << " | " << mismatchText(r) << " |\n";
+        << setRatio(r, estaticRobust, RaySet::Frozen) << " | " << setMt(r, RaySet::Incoherent) << " | "
+        << setRatio(r, embree, RaySet::Incoherent) << " | " << mismatchText(r) << " |\n";
   }
   if (const Result* best = bestMbrt(report, scene, RaySet::Secondary))
     out << "\nBest mbrt kind on the secondary set: `" << best->accel << "`.\n";

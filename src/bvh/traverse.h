@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/cache_size.h"
 #include "core/robust_slab.h"
 #include "bvh/nodes/wide_bvh.h"
 #include "leaves/leaf_format.h"
@@ -129,14 +130,36 @@ inline TraversalItem laneItem(const Node& node, int lane, float dist) {
   return {node.child[lane], node.count[lane], dist};
 }
 
-// Asks for the cache lines of the inner children in `lanes` of `node`.
-template <class Node, class NodeAt>
-[[gnu::always_inline]] inline void prefetchChildren(const Node& node, uint32_t lanes, const NodeAt& nodeAt) {
+// Asks for the cache lines of [p, p + bytes).
+[[gnu::always_inline]] inline void prefetchLines(const void* p, size_t bytes) {
+  const char* c = static_cast<const char*>(p);
+  for (size_t line = 0; line < bytes; line += 64) __builtin_prefetch(c + line);
+}
+
+// Whether prefetching pays: the tree's nodes do not fit in a core's cache
+// (core/cache_size.h). Prefetching the hit children of trees that do costs
+// their instructions and gains nothing (docs/performance.md).
+inline bool prefetchPays(size_t nodeBytes) { return nodeBytes > kCoreCacheBytes; }
+
+// The cache lines a visit of node i of `nodeAt` reads: the node itself;
+// nothing when `on` is false.
+template <class NodeAt>
+struct NodeLines {
+  const NodeAt& nodeAt;
+  bool on;
+  void operator()(uint32_t i) const {
+    const auto& node = nodeAt(i);
+    prefetchLines(&node, sizeof(node));
+  }
+};
+
+// Asks for the lines of the inner children in `lanes` of `node`.
+template <class Node, class Prefetch>
+[[gnu::always_inline]] inline void prefetchChildren(const Node& node, uint32_t lanes, const Prefetch& prefetch) {
+  if (!prefetch.on) return;
   for (; lanes != 0; lanes &= lanes - 1) {
     const int lane = __builtin_ctz(lanes);
-    if (node.count[lane] != kInnerLane) continue;
-    const char* p = reinterpret_cast<const char*>(&nodeAt(node.child[lane]));
-    for (size_t line = 0; line < sizeof(Node); line += 64) __builtin_prefetch(p + line);
+    if (node.count[lane] == kInnerLane) prefetch(node.child[lane]);
   }
 }
 
@@ -144,11 +167,12 @@ template <class Node, class NodeAt>
 // nodeAt(i) gives node i (its lanes, as laneItem reads them); testNode(node,
 // i, dist) returns the mask of lanes the ray enters, with their entry
 // distances in dist; leaf(item) tests a leaf's references and returns true
-// on a hit (for AnyHit: the ray is occluded, the walk stops). The nearest child
-// is visited next, the others go on the stack farthest first.
-template <bool AnyHit, bool Count, int N, class NodeAt, class TestNode, class Leaf>
+// on a hit (for AnyHit: the ray is occluded, the walk stops); prefetch(i)
+// asks for the cache lines a visit of node i reads (when prefetch.on). The nearest child is
+// visited next, the others go on the stack farthest first.
+template <bool AnyHit, bool Count, int N, class NodeAt, class TestNode, class Leaf, class Prefetch>
 bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* counters, NodeAt&& nodeAt,
-                  TestNode&& testNode, Leaf&& leaf) {
+                  TestNode&& testNode, Leaf&& leaf, Prefetch&& prefetch) {
   constexpr uint32_t kLocalStack = 256;
   TraversalItem local[kLocalStack];
   std::vector<TraversalItem> big;
@@ -182,7 +206,7 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
         // Two or more lanes: their nodes are fetched into the cache now, so
         // that the loads of the one visited next and of those popped later
         // overlap this node's work (as Embree prefetches each hit child).
-        prefetchChildren(node, mask | 1u << lane, nodeAt);
+        prefetchChildren(node, mask | 1u << lane, prefetch);
         // The nearest is visited next, the others are pushed farthest
         // first. Two lanes (the common case) take one compare; more are
         // insertion-sorted in place on the stack, ties keeping lane order,
@@ -249,8 +273,9 @@ bool traverse(const WideBvh<N, Motion>& bvh, const Leaves& leaves, const SceneCo
   if (bvh.empty()) return false;
   const NodeRay<packWidth<N>()> r(nodeRay, boxTime);
   const typename Leaves::RayState state = leaves.rayState(leafRay);
+  const auto nodeAt = [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; };
   return wideTraverse<AnyHit, Count, N>(
-      bvh.stackSize, nodeRay, counters, [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; },
+      bvh.stackSize, nodeRay, counters, nodeAt,
       [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
         const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
         return intersectNode<packWidth<N>()>(node, r, nodeRay.tfar, dist, times);
@@ -262,7 +287,8 @@ bool traverse(const WideBvh<N, Motion>& bvh, const Leaves& leaves, const SceneCo
         const bool found = leaves.template test<AnyHit, Count>(ctx, refs, leafRay, state, hit, counters);
         if constexpr (!AnyHit) nodeRay.tfar = leafRay.tfar;
         return found;
-      });
+      },
+      NodeLines<decltype(nodeAt)>{nodeAt, prefetchPays(bvh.nodes.size() * sizeof(WideNode<N, Motion>))});
 }
 
 template <bool AnyHit, bool Count, int N, bool Motion, LeafFormat Leaves>

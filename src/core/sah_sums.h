@@ -1,4 +1,4 @@
-// The SAH cost of DESIGN.md, one formula for every kind (C_T = C_I = 1):
+// The SAH cost of docs/design.md, one formula for every kind (C_T = C_I = 1):
 //   ( sum_inner A(n) T(n) + sum_leaves A(l) T(l) seg(l) ) / A(scene)
 // A: surface area averaged over 8 times spread over the node's time range;
 // T: length of that range; seg: active primitive segments (MBSAH, STBVH §3.2).

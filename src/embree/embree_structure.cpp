@@ -25,7 +25,7 @@
 // - partial time ranges: rtcSetGeometryTimeRange. A static geometry with a
 //   partial range is given two identical steps so that Embree culls it
 //   outside its range as mbrt does. Embree treats the range ends with a small
-//   slack (DESIGN.md): compare such geometries away from their ends.
+//   slack (docs/design.md): compare such geometries away from their ends.
 // - masks: rtcSetGeometryMask when the device supports ray masks; otherwise
 //   (or when forced, for tests) the masks of the geometry and of the
 //   instance are checked in a filter function.

@@ -1,5 +1,5 @@
-// The figures of a fuzzy kd-tree: its sizes (FuzzyKdStats) and DESIGN.md's
-// SAH with its node counts (AccelStats).
+// The figures of a fuzzy kd-tree: its sizes (FuzzyKdStats) and the SAH of
+// docs/design.md with its node counts (AccelStats).
 #pragma once
 
 #include "fuzzykd/fuzzykd.h"
@@ -11,7 +11,7 @@ namespace mbrt::detail {
 // bytes).
 void countTrees(const FuzzyKdTrees& trees, FuzzyKdStats& stats);
 
-// DESIGN.md's SAH (C_T = C_I = 1, areas averaged over 8 times). The top
+// the SAH of docs/design.md (C_T = C_I = 1, areas averaged over 8 times). The top
 // tree's lanes count with their linear bounds, a leaf lane as one entry
 // into its item; a cluster with its world key box and its tree's cells,
 // whose area is that of the cell's image in world space (a parallelepiped

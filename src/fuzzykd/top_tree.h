@@ -28,8 +28,9 @@ bool traverseTop(const TopTree& top, RayQuery& ray, TraversalCounters* counters,
   if (top.empty()) return false;
   constexpr int N = kTopWidth;
   const NodeRay<packWidth<N>()> r(ray, ray.time);
+  const auto nodeAt = [&](uint32_t i) -> const TopTree::Node& { return top.nodes[i]; };
   return wideTraverse<AnyHit, Count, N>(
-      top.stackSize, ray, counters, [&](uint32_t i) -> const TopTree::Node& { return top.nodes[i]; },
+      top.stackSize, ray, counters, nodeAt,
       [&](const TopTree::Node& node, uint32_t, float* dist) {
         const LaneTimes<N>* times = node.hasTimes() ? &top.times[node.times] : nullptr;
         return intersectNode<packWidth<N>()>(node, r, ray.tfar, dist, times);
@@ -47,7 +48,8 @@ bool traverseTop(const TopTree& top, RayQuery& ray, TraversalCounters* counters,
             found = true;
           }
         return found;
-      });
+      },
+      NodeLines<decltype(nodeAt)>{nodeAt, prefetchPays(top.nodes.size() * sizeof(TopTree::Node))});
 }
 
 }  // namespace mbrt::detail

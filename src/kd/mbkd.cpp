@@ -82,7 +82,7 @@ class Mbkd final : public TracedStructure<Mbkd<Leaves>>, public Inspect {
     if (!tree_.empty()) forEachKdCell(tree_.nodes, 0, tree_.root, fn);
   }
 
-  // DESIGN.md's SAH: a cell is a node with its cell box over the whole
+  // the SAH of docs/design.md: a cell is a node with its cell box over the whole
   // shutter; a leaf counts the active segments of its references' intervals.
   void computeSah() {
     sceneArea_ = sceneSahArea(ctx_);

@@ -10,6 +10,7 @@
 
 #include <vector>
 
+#include "core/cache_size.h"
 #include "core/huge_pages.h"
 #include "leaves/reference_leaves.h"
 
@@ -19,10 +20,10 @@ struct ReferenceTriangleLeaves {
   using RayState = LeafBlockRay;
 
   // Where it pays: the scene's triangles' indices take more than a core's
-  // second-level cache (1 MB here, as RayCostWeights::cacheBytes), so that
-  // reading a triangle through its primitive id waits on memory. On smaller
-  // scenes those indices stay cached and the table only adds bytes to read.
-  static constexpr size_t kPaysFromBytes = size_t(1) << 20;
+  // cache (core/cache_size.h), so that reading a triangle through its
+  // primitive id waits on memory. On smaller scenes those indices stay
+  // cached and the table only adds bytes to read.
+  static constexpr size_t kPaysFromBytes = kCoreCacheBytes;
   static bool pays(const SceneContext& ctx) {
     size_t bytes = 0;
     for (uint32_t id = 0; id < ctx.scene().numGeometries(); ++id)
