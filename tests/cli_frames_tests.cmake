@@ -65,6 +65,13 @@ mbrt_cli_test(cli.frames_auto_kind_without_refit
   EXISTS ${F}_stbvh/s_1.png
   ARGS render skinned --size 0.02 --accel stbvh --frames 0:1 ${SMALL} -o ${F}_stbvh/s_%d.png)
 
+# auto refits its parts and prints what it did on each frame's line.
+mbrt_cli_test(cli.frames_auto_refits
+  SETUP "rm -rf ${F}_auto && mkdir -p ${F}_auto"
+  OUT "^frame +2 .* refit: .*(keys|refitted)"
+  EXISTS ${F}_auto/s_2.png
+  ARGS render skinned --size 0.02 --accel auto --frames 0:2 ${SMALL} -o ${F}_auto/s_%d.png)
+
 # Ctrl-C: the frame in progress is not written (no temporary file, no
 # truncated image); --resume renders what is missing.
 mbrt_cli_test(cli.frames_interrupt

@@ -12,10 +12,14 @@ using namespace mbrt;
 
 namespace {
 
+// The cost model's choices: without the measured confirmation, whose
+// timing would make them depend on the machine (test_auto_trace.cpp tests
+// it with injected measurements).
 std::unique_ptr<Accel> build(const Scene& scene, AccelKind kind, size_t budget = 0) {
   BuildOptions o;
   o.kind = kind;
   o.memoryBudget = budget;
+  o.autoConfirmByTrace = false;
   return Accel::build(scene, o);
 }
 

@@ -113,6 +113,42 @@ TEST(Frames, KindsWithoutRefitRebuildAndStayCorrect) {
   expectSameImage(scene, *accel, *brute, o);
 }
 
+// auto across frames: built for the refits its updater will make, each
+// update's line is auto's own summary of what it refitted, and its pictures
+// are those of a fresh auto build over each frame.
+TEST(Frames, AutoRefitsAcrossFramesAndSaysWhatItDid) {
+  AnimationOptions ao;
+  ao.size = 0.05;
+  ao.seed = 7;
+  Animation animation("skinned", ao);
+  const FrameClock clock;
+  BuildOptions build;
+  build.kind = AccelKind::Auto;
+  build.autoConfirmByTrace = false;  // the model's choice: the same every run
+  EXPECT_FALSE(AccelUpdater(UpdatePolicy::Rebuild).buildOptions(build).autoForRefits);
+  AccelUpdater updater(UpdatePolicy::Auto);
+  EXPECT_TRUE(updater.buildOptions(build).autoForRefits);
+  std::unique_ptr<Accel> accel;
+  EXPECT_EQ(updater.update(accel, *animation.frame(0, clock).scene, build).what, "build");
+  EXPECT_TRUE(accel->options().autoForRefits);
+  RenderOptions o;
+  o.width = 48;
+  o.height = 32;
+  o.spp = 2;
+  o.integrator = IntegratorKind::Normals;
+  const std::vector<int64_t> frames = test::testScale() < 1.0 ? std::vector<int64_t>{6} : std::vector<int64_t>{2, 6, 12};
+  for (int64_t f : frames) {
+    const SceneDescription& scene = animation.frame(f, clock);
+    const AccelUpdate u = updater.update(accel, *scene.scene, build);
+    EXPECT_TRUE(u.refitted) << "frame " << f << ": " << u.what;
+    EXPECT_EQ(u.what.rfind("refit: ", 0), 0u) << "frame " << f << ": " << u.what;
+    EXPECT_EQ(u.what, accel->lastUpdate());
+    EXPECT_EQ(u.what.find("cannot refit"), std::string::npos) << "frame " << f << ": " << u.what;
+    expectSameImage(scene, *accel, *Accel::build(*scene.scene, updater.buildOptions(build)), o);
+    expectSameImage(scene, *accel, *test::buildKind(*scene.scene, AccelKind::Brute), o);
+  }
+}
+
 // The library's frame renderer: a frame's picture is the render of that
 // frame's scene, whatever frames came before it.
 TEST(Frames, FrameRendererRendersEachFramesScene) {

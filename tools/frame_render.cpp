@@ -45,7 +45,9 @@ SequenceRenderer::SequenceRenderer(const FrameJob& job, const std::atomic<bool>*
   f.policy = job.policy;
   f.rebuildFactor = job.rebuildFactor;
   f.threads = job.threads;
-  f.builder = [accel = job.accel](const Scene& scene) { return buildAccel(scene, accel, false); };
+  AccelArgs accel = job.accel;
+  accel.updates = job.policy;
+  f.builder = [accel](const Scene& scene) { return buildAccel(scene, accel, false); };
   f.camera = [camera = job.camera](Camera& c) { camera.apply(c); };
   renderer_ = std::make_unique<FrameRenderer>(*animation_, std::move(f), cancel);
 }

@@ -82,7 +82,7 @@ struct Report {
   int32_t width = 0, height = 0, refitted = 0;
   double scene = 0.0, update = 0.0, render = 0.0;
   uint64_t rays = 0;
-  char updateKind[48] = {};
+  char updateKind[160] = {};  // as MBRTAccelUpdate::what
   char error[256] = {};
 };
 

@@ -300,6 +300,7 @@ std::unique_ptr<Accel> buildAccel(const Scene& scene, const AccelArgs& args, boo
   const auto kind = parseAccelKind(name);
   if (!kind) throw UsageError("unknown accel kind '" + name + "' (available: " + accelKindList() + ")");
   opt.kind = *kind;
+  if (args.updates) opt = AccelUpdater(*args.updates).buildOptions(opt);
   BuildSpinner spinner(progress, "building " + name);
   if (!args.accel.empty() || opt.kind == AccelKind::Brute) return Accel::build(scene, opt);
   try {

@@ -6,10 +6,12 @@
 #include <CLI/CLI.hpp>
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "mbrt/accel.h"
+#include "mbrt/accel_update.h"
 #include "mbrt/io/gltf.h"
 #include "mbrt/io/loaders.h"
 #include "mbrt/io/scene_description.h"
@@ -78,6 +80,9 @@ struct AccelArgs {
   int leafSize = 8;
   float time = 0.5f;  // build time of `frozen`
   size_t memoryBudget = 0;  // bytes, 0: unlimited
+  // Not an option: the policy that will update the accel (--frames), whose
+  // AccelUpdater::buildOptions the build takes.
+  std::optional<UpdatePolicy> updates;
 };
 
 // What --scene names: geometry, camera, materials, lights.

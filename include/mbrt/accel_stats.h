@@ -26,6 +26,8 @@ struct AccelStats {
   // Kinds that split the scene into objects (auto): one line per object,
   // what was extracted, its residual, the kind chosen and why.
   std::string objects;
+  // What the last build, rebuild or refit did (Accel::lastUpdate).
+  std::string update;
 };
 
 // Per-ray work, for the papers' metrics: nodes visited, box tests (an

@@ -26,7 +26,10 @@ std::string_view toString(UpdatePolicy policy);
 // What one update did.
 struct AccelUpdate {
   // "build", "rebuild (new layout)", "refit", "rebuild",
-  // "rebuild (kind cannot refit)", "rebuild (SAH x1.62)".
+  // "rebuild (kind cannot refit)", "rebuild (SAH x1.62)", or after a refit
+  // the kind's own summary (Accel::lastUpdate): `auto` says what it
+  // refitted and rebuilt, "refit: 2 instances' keys, 1 tree refitted
+  // (msbvh)".
   std::string what;
   bool refitted = false;  // the tree was refitted and kept
   double seconds = 0.0;   // the build, refit or rebuild, with Auto's SAH check
@@ -44,6 +47,11 @@ class AccelUpdater {
   explicit AccelUpdater(UpdatePolicy policy = UpdatePolicy::Auto, double rebuildFactor = 1.5);
   UpdatePolicy policy() const { return policy_; }
   double rebuildFactor() const { return rebuildFactor_; }
+  // `options` as an accel this policy updates is best built with: under
+  // Refit and Auto, BuildOptions::autoForRefits (auto builds only what
+  // refits). What update(accel, scene, options) builds with; a Builder
+  // should build with it too.
+  BuildOptions buildOptions(BuildOptions options) const;
 
   // Brings `accel` up to date with `scene` after the scene changed. A new
   // Accel is built with `build` when `accel` is null, was built over another
@@ -51,7 +59,7 @@ class AccelUpdater {
   // as an Animation's scene is when its layout changes: "rebuild (new
   // layout)"); otherwise the accel is refitted or rebuilt by the policy.
   AccelUpdate update(std::unique_ptr<Accel>& accel, const Scene& scene, const Builder& build);
-  // The same, building with `options`.
+  // The same, building with buildOptions(options).
   AccelUpdate update(std::unique_ptr<Accel>& accel, const Scene& scene, const BuildOptions& options);
 
  private:

@@ -52,6 +52,21 @@ struct BuildOptions {
   // tree, docs/auto.md), which also keeps the decomposition.
   float autoFitTolerance = 1e-5f;
   std::optional<AccelKind> autoLeafKind;
+  // `auto` only: where the cost model's best candidates (kinds of an object,
+  // or the decomposition against the whole scene as one object) lie within
+  // its error, trace a sample of rays through each and keep the measured
+  // best (docs/auto.md, "Measured confirmation"). The choice then depends
+  // on the machine's timing; false keeps the model's choice, which depends
+  // only on the scene and these options.
+  bool autoConfirmByTrace = true;
+  // `auto` only: the accel will follow new vertex data by Accel::refit (a
+  // frame sequence; AccelUpdater sets it under its Refit and Auto policies).
+  // Then `auto` builds only what refits: moving objects choose among the
+  // kinds that refit in place (bvh-interp, msbvh), whose first refit would
+  // otherwise rebuild any other, and deforming meshes are not decomposed
+  // into near-rigid clusters, whose trees every refit makes again
+  // (docs/auto.md, "Refit").
+  bool autoForRefits = false;
 };
 
 // The one spelling of the Embree modes: "robust", "default", "static",

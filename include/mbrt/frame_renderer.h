@@ -31,7 +31,8 @@ struct FrameRenderOptions {
   RenderOptions render;  // its shutter part is the camera's, of every frame
   FrameClock clock;
   BuildOptions build;    // the structure (BuildOptions::kind)
-  // How new structures are built; empty: Accel::build(scene, build).
+  // How new structures are built; empty: Accel::build(scene, build), build
+  // as AccelUpdater::buildOptions makes it for the policy.
   AccelUpdater::Builder builder;
   UpdatePolicy policy = UpdatePolicy::Auto;
   double rebuildFactor = 1.5;

@@ -306,8 +306,9 @@ typedef enum MBRTUpdatePolicy {
 
 /* What one mbrtUpdateAccel did. */
 typedef struct MBRTAccelUpdate {
-  char what[48];   /* "build", "refit", "rebuild", "rebuild (kind cannot refit)", "rebuild (SAH x1.62)",
-                      "rebuild (new layout)"; NUL-terminated */
+  char what[160]; /* "build", "refit", "rebuild", "rebuild (kind cannot refit)", "rebuild (SAH x1.62)",
+                      "rebuild (new layout)", or auto's summary of its refit ("refit: 2 instances' keys,
+                      1 tree refitted (msbvh)"); NUL-terminated, cut at 159 bytes */
   int refitted;    /* 1 when the tree was refitted and kept */
   double seconds;  /* the refit or (re)build */
   double sahCost;  /* after the update (MBRT_UPDATE_AUTO only; 0 otherwise) */

@@ -136,20 +136,32 @@ void Accel::construct() {
   structure_ = built_->structure.get();
   buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   invalidRays_ = 0;
+  lastUpdate_ = "build";
 }
 
 void Accel::rebuild() {
   checkScene();
   construct();
+  lastUpdate_ = "rebuild";
 }
 
 bool Accel::refit() {
   checkScene();
   scene_->validate(options_.maxInstanceDepth);
   bool refitted = false;
-  if (structure_) detail::runIsolatedFromCancellation([&] { refitted = structure_->refit(); });
-  if (refitted) return true;
+  std::string summary;
+  if (structure_)
+    detail::runIsolatedFromCancellation([&] {
+      const bool children = built_->context.refitChildren();
+      refitted = children && structure_->refit();
+      summary = children ? structure_->refitSummary() : "the kind of an instanced scene cannot refit";
+    });
+  if (refitted) {
+    lastUpdate_ = summary.empty() ? "refit" : summary;
+    return true;
+  }
   construct();
+  lastUpdate_ = "rebuild (" + (summary.empty() ? std::string("kind cannot refit") : summary) + ")";
   return false;
 }
 
@@ -226,6 +238,7 @@ AccelStats Accel::stats() const {
   s.kind = std::string(toString(options_.kind));
   s.buildSeconds = buildSeconds_;
   s.invalidRays = invalidRays_.load();
+  s.update = lastUpdate_;
   return s;
 }
 

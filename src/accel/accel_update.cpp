@@ -35,8 +35,14 @@ AccelUpdater::AccelUpdater(UpdatePolicy policy, double rebuildFactor) : policy_(
     throw Error("the rebuild factor must be a number of at least 1, got " + std::to_string(rebuildFactor));
 }
 
+BuildOptions AccelUpdater::buildOptions(BuildOptions options) const {
+  options.autoForRefits = policy_ != UpdatePolicy::Rebuild;
+  return options;
+}
+
 AccelUpdate AccelUpdater::update(std::unique_ptr<Accel>& accel, const Scene& scene, const BuildOptions& options) {
-  return update(accel, scene, [&](const Scene& s) { return Accel::build(s, options); });
+  const BuildOptions o = buildOptions(options);
+  return update(accel, scene, [&](const Scene& s) { return Accel::build(s, o); });
 }
 
 AccelUpdate AccelUpdater::update(std::unique_ptr<Accel>& accel, const Scene& scene, const Builder& build) {
@@ -59,7 +65,7 @@ AccelUpdate AccelUpdater::update(std::unique_ptr<Accel>& accel, const Scene& sce
   // An accel built elsewhere: its cost as built is that of its nodes now.
   if (policy_ == UpdatePolicy::Auto && lastBuildSah_ == 0.0) lastBuildSah_ = accel->stats().sahCost;
   out.refitted = accel->refit();
-  out.what = out.refitted ? "refit" : "rebuild (kind cannot refit)";
+  out.what = accel->lastUpdate();  // the kind's own words: auto says what it refitted and rebuilt
   if (policy_ == UpdatePolicy::Auto) {
     out.sah = accel->stats().sahCost;
     const double growth = lastBuildSah_ > 0.0 ? out.sah / lastBuildSah_ : 1.0;

@@ -47,7 +47,7 @@ void planClusters(const Geometry& g, uint32_t geomID, uint32_t pieces, WorldPart
 
 // The connected pieces of a mesh that no single key fits: each piece that
 // moves rigidly becomes a part; the rest stays world-space.
-void planPieces(const Geometry& g, uint32_t geomID, double tolerance, AutoPlan& plan) {
+void planPieces(const Geometry& g, uint32_t geomID, double tolerance, bool clusters, AutoPlan& plan) {
   uint32_t count = 0;
   const std::vector<uint32_t> pieceOf = connectedPieces(g.triangles(), uint32_t(g.vertices(0).count), count);
   WorldPart rest{geomID, {}, "deforms: no affine key per step fits it or its connected pieces"};
@@ -68,7 +68,7 @@ void planPieces(const Geometry& g, uint32_t geomID, double tolerance, AutoPlan& 
     if (rest.prims.size() == g.numPrimitives()) rest.prims.clear();  // nothing extracted
     else rest.why = "the pieces that no affine key per step fits";
   }
-  if (g.numPrimitives() <= kMaxClusterMeshTriangles) {
+  if (clusters && g.numPrimitives() <= kMaxClusterMeshTriangles) {
     const size_t before = plan.clusters.size();
     planClusters(g, geomID, count, rest, plan);
     if (plan.clusters.size() != before && rest.prims.empty()) return;  // every triangle in a cluster
@@ -78,7 +78,7 @@ void planPieces(const Geometry& g, uint32_t geomID, double tolerance, AutoPlan& 
 
 }  // namespace
 
-AutoPlan planDecomposition(const Scene& scene, double tolerance) {
+AutoPlan planDecomposition(const Scene& scene, double tolerance, bool clusters) {
   AutoPlan plan;
   for (uint32_t id = 0; id < scene.numGeometries(); ++id) {
     const Geometry& g = scene.geometry(id);
@@ -108,7 +108,7 @@ AutoPlan planDecomposition(const Scene& scene, double tolerance) {
     } else if (whole.fits) {
       plan.world.push_back({id, {}, "rigid, but too few triangles to repay an instance"});
     } else {
-      planPieces(g, id, tolerance, plan);
+      planPieces(g, id, tolerance, clusters, plan);
     }
   }
   return plan;

@@ -66,7 +66,9 @@ struct AutoPlan {
   bool extracts() const { return !rigid.empty() || !clusters.empty(); }
 };
 
-// tolerance: relative to each part's diagonal (BuildOptions::autoFitTolerance).
-AutoPlan planDecomposition(const Scene& scene, double tolerance);
+// tolerance: relative to each part's diagonal (BuildOptions::autoFitTolerance);
+// clusters: whether deforming meshes are decomposed into near-rigid clusters
+// (not for an accel that will be refitted: BuildOptions::autoForRefits).
+AutoPlan planDecomposition(const Scene& scene, double tolerance, bool clusters = true);
 
 }  // namespace mbrt::detail

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <vector>
 
+#include "auto/trace_confirm.h"
+
 namespace mbrt::detail {
 namespace {
 
@@ -12,6 +14,7 @@ namespace {
 constexpr AccelKind kMovingCandidates[] = {AccelKind::BvhInterp, AccelKind::BvhSegments, AccelKind::Stbvh,
                                            AccelKind::Msbvh};
 constexpr double kNearCost = 0.02;
+constexpr size_t kMinTracedPrimitives = 2048;
 
 std::string megabytes(size_t bytes) {
   char buf[32];
@@ -34,12 +37,7 @@ BuiltObject buildKind(const Scene& scene, const BuildOptions& options, AccelKind
   b.budget = trialBudget(budget);
   b.context = std::make_unique<SceneContext>(scene, o, *b.budget, children);
   b.structure = registry(*b.context);
-  AccelStats s;
-  b.structure->fillStats(s);
-  b.context->addChildStats(s);
-  b.bytes = s.bytes;
-  b.leafBlockBytes = s.leafBlockBytes;
-  b.sahCost = s.sahCost;
+  b.measure();
   return b;
 }
 
@@ -75,7 +73,7 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   const std::vector<RayQuery> rays = sampleRays(*trials.front().context);
   const RayCostWeights weights = weightsFor(scene);
   for (BuiltObject& t : trials)
-    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.bytes, t.leafBlockBytes);
+    t.rayCost = measureRayCost(*t.structure, rays).total(weights, t.kind, t.stats.bytes, t.stats.leafBlockBytes);
   size_t best = 0;
   for (size_t i = 0; i < trials.size(); ++i)
     if (trials[i].rayCost < trials[best].rayCost) best = i;
@@ -83,18 +81,51 @@ BuiltObject chooseAmong(const std::vector<AccelKind>& kinds, const Scene& scene,
   // that close is within the sample's scatter, the memory is not.
   const double bestCost = trials[best].rayCost;
   for (size_t i = 0; i < trials.size(); ++i)
-    if (trials[i].rayCost <= bestCost * (1.0 + kNearCost) && trials[i].bytes < trials[best].bytes) best = i;
+    if (trials[i].rayCost <= bestCost * (1.0 + kNearCost) && trials[i].stats.bytes < trials[best].stats.bytes) best = i;
   for (size_t i = 0; i < trials.size(); ++i) {
     figures += std::string(figures.empty() ? "" : ", ") + std::string(toString(trials[i].kind)) + " " +
-               number(trials[i].rayCost) + " / " + megabytes(trials[i].bytes);
+               number(trials[i].rayCost) + " / " + megabytes(trials[i].stats.bytes);
   }
-  BuiltObject b = std::move(trials[best]);
+  std::vector<std::pair<AccelKind, double>> costs;
+  std::vector<TraceCandidate> candidates;
+  for (const BuiltObject& t : trials) {
+    costs.emplace_back(t.kind, t.rayCost);
+    candidates.push_back({std::string(toString(t.kind)), t.structure.get(), t.rayCost});
+  }
+  // Small objects are left to the model: their trace would cost more of
+  // the build than their choice can save (crowd: 101 objects).
+  TraceChoice confirmed;
+  confirmed.chosen = best;
+  if (scene.numPrimitives() >= kMinTracedPrimitives) confirmed = confirmByTrace(candidates, best, rays, options);
+  BuiltObject b = std::move(trials[confirmed.chosen]);
+  b.trials = std::move(costs);
   b.why = "lowest measured ray cost, its cache factor included (the smallest within 2 %), among trial builds (cost per sampled ray / memory: " +
-          figures + ")";
+          figures + ")" + confirmed.line;
   return b;
 }
 
 }  // namespace
+
+bool refitsInPlace(AccelKind kind) { return kind == AccelKind::BvhInterp || kind == AccelKind::Msbvh; }
+
+AccelKind cheapestRefittingTrial(const BuiltObject& b) {
+  if (refitsInPlace(b.kind)) return b.kind;
+  AccelKind best = b.kind;
+  double bestCost = 0;
+  for (const auto& [kind, cost] : b.trials)
+    if (refitsInPlace(kind) && (best == b.kind || cost < bestCost)) {
+      best = kind;
+      bestCost = cost;
+    }
+  return best;
+}
+
+BuiltObject buildObjectOfKind(const Scene& scene, const BuildOptions& options, AccelKind kind, BuildBudget& budget,
+                              const StructureFactory& registry, const StructureFactory& children) {
+  BuiltObject b = buildKind(scene, options, kind, budget, registry, children);
+  chargeKept(*b.budget, budget);
+  return b;
+}
 
 std::unique_ptr<BuildBudget> trialBudget(const BuildBudget& budget) {
   if (budget.limit() == 0) return std::make_unique<BuildBudget>(0);
@@ -121,8 +152,10 @@ BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBu
     b = chooseAmong({AccelKind::Frozen, AccelKind::BvhInterp}, scene, options, budget, registry, children);
     b.why = "static: " + b.why;
   } else {
-    b = chooseAmong(std::vector<AccelKind>(std::begin(kMovingCandidates), std::end(kMovingCandidates)), scene,
-                    options, budget, registry, children);
+    std::vector<AccelKind> kinds;
+    for (AccelKind k : kMovingCandidates)
+      if (!options.autoForRefits || refitsInPlace(k)) kinds.push_back(k);
+    b = chooseAmong(kinds, scene, options, budget, registry, children);
   }
   chargeKept(*b.budget, budget);
   return b;

@@ -6,6 +6,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "auto/ray_cost.h"
 #include "scene/scene_context.h"
@@ -18,11 +20,32 @@ struct BuiltObject {
   std::unique_ptr<Structure> structure;
   AccelKind kind = AccelKind::BvhInterp;
   std::string why;  // the reason for the choice, with the trial figures
-  size_t bytes = 0;
-  size_t leafBlockBytes = 0;  // of bytes, in leaf blocks (AccelStats)
-  double sahCost = 0;
+  // Its statistics when built (with its context's instanced structures):
+  // a refit changes its SAH cost, never its bytes, nodes or references,
+  // which are all the top level's statistics read of it.
+  AccelStats stats;
   double rayCost = 0;  // measured per sampled ray, in node visits (ray_cost.h)
+  // Every trial's kind and measured cost (empty where no trial was made):
+  // what a refit picks from when the kept kind cannot refit.
+  std::vector<std::pair<AccelKind, double>> trials;
+  uint32_t refits = 0;  // in place since it was built
+
+  // Fills `stats` from the structure.
+  void measure() {
+    stats = AccelStats{};
+    structure->fillStats(stats);
+    if (context) context->addChildStats(stats);
+  }
 };
+
+// The kinds whose Structure::refit updates a tree in place for new vertices
+// (bvh-interp: bottom-up linear bounds; msbvh: re-clipped per-key bounds,
+// its paper's §5) on scenes without instances.
+bool refitsInPlace(AccelKind kind);
+
+// The cheapest of b's trials whose kind refits in place (b's own kind when
+// it refits or when none of its trials does).
+AccelKind cheapestRefittingTrial(const BuiltObject& b);
 
 // Builds `scene`'s structure of the chosen kind (options.autoLeafKind when
 // set) with `registry` (the kind registry); the structures of its
@@ -32,6 +55,9 @@ struct BuiltObject {
 // trial that does not fit is skipped while another does.
 BuiltObject buildObject(const Scene& scene, const BuildOptions& options, BuildBudget& budget,
                         const StructureFactory& registry, const StructureFactory& children);
+// Builds `scene`'s structure of `kind` (no trials), charged to `budget`.
+BuiltObject buildObjectOfKind(const Scene& scene, const BuildOptions& options, AccelKind kind, BuildBudget& budget,
+                              const StructureFactory& registry, const StructureFactory& children);
 
 // A budget for a trial build: limited to what `budget` has left.
 std::unique_ptr<BuildBudget> trialBudget(const BuildBudget& budget);

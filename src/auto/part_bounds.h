@@ -22,5 +22,9 @@ std::vector<Box3f> partKeyBoxes(const Geometry& g, const RigidPart& part);
 // (empty: all), widened by `margin`: the lerp of consecutive boxes holds
 // the lerped vertices (a near-rigid cluster's world-space triangles).
 std::vector<Box3f> trianglesKeyBoxes(const Geometry& g, std::span<const uint32_t> prims, float margin);
+// The same from the vertices those triangles use (usedVertices).
+std::vector<Box3f> verticesKeyBoxes(const Geometry& g, std::span<const uint32_t> vertices, float margin);
+// A rigid part's boxes (partKeyBoxes) from its used vertices.
+std::vector<Box3f> partKeyBoxes(const Geometry& g, std::span<const uint32_t> vertices, const PartFit& fit);
 
 }  // namespace mbrt::detail

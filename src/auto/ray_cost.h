@@ -104,13 +104,16 @@ struct EntryTally {
   }
 };
 
-// Counts the calls into a structure traced through an instance, while
-// counting is on (only the choice's own sample; off afterwards, so that
-// concurrent tracing never writes).
+// Counts the calls into a structure (owned elsewhere) traced through an
+// instance, while counting is on (only the choice's own sample; off
+// afterwards, so that concurrent tracing never writes). Its statistics are
+// the owner's, made when the structure was built (a refit changes none of
+// the figures a parent reads of a child: bytes, nodes, references).
 class EntryCounting final : public Structure {
  public:
-  EntryCounting(std::unique_ptr<Structure> s, EntryTally& tally, const std::atomic<bool>& on, bool frozen)
-      : s_(std::move(s)), tally_(tally), on_(on), frozen_(frozen) {}
+  EntryCounting(const Structure& s, const AccelStats& stats, EntryTally& tally, const std::atomic<bool>& on,
+                bool frozen)
+      : s_(&s), stats_(&stats), tally_(tally), on_(on), frozen_(frozen) {}
   bool intersect(RayQuery& ray, Hit& hit) const override { return s_->intersect(ray, hit); }
   bool occluded(RayQuery& ray) const override { return s_->occluded(ray); }
   bool intersectCounted(RayQuery& ray, Hit& hit, TraversalCounters& c) const override {
@@ -126,11 +129,12 @@ class EntryCounting final : public Structure {
     }
     return found;
   }
-  void fillStats(AccelStats& s) const override { s_->fillStats(s); }
+  void fillStats(AccelStats& s) const override { s = *stats_; }
   uint32_t clusterOf(PrimRef p) const override { return s_->clusterOf(p); }
 
  private:
-  std::unique_ptr<Structure> s_;
+  const Structure* s_;
+  const AccelStats* stats_;
   EntryTally& tally_;
   const std::atomic<bool>& on_;
   bool frozen_;

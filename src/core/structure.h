@@ -2,6 +2,8 @@
 // validates rays and counts statistics around it.
 #pragma once
 
+#include <string>
+
 #include "core/prim_ref.h"
 #include "core/ray_query.h"
 #include "mbrt/accel_stats.h"
@@ -22,6 +24,9 @@ class Structure {
   // Updates bounds for new vertex data without a new topology; false when
   // the structure cannot do that.
   virtual bool refit() { return false; }
+  // After refit: what it did (true) or why it could not (false), in a few
+  // words for Accel::lastUpdate; empty: "refit", or "kind cannot refit".
+  virtual std::string refitSummary() const { return {}; }
   // The cluster a primitive belongs to in kinds that decompose the scene;
   // kInvalidId elsewhere.
   virtual uint32_t clusterOf(PrimRef) const { return kInvalidId; }

@@ -12,7 +12,7 @@ FrameRenderer::FrameRenderer(Animation& animation, FrameRenderOptions options, c
       updater_(options_.policy, options_.rebuildFactor) {
   animation_.frames(options_.clock);  // checks the clock
   if (!options_.builder) {
-    const BuildOptions build = options_.build;
+    const BuildOptions build = updater_.buildOptions(options_.build);
     options_.builder = [build](const Scene& scene) { return Accel::build(scene, build); };
   }
   arena_ = options_.threads > 0 ? std::make_unique<tbb::task_arena>(options_.threads)

@@ -75,7 +75,7 @@ inline bool intersectPrimitive(const SceneContext& ctx, PrimRef ref, RayQuery& r
   if (g.type() == GeometryType::Instance) {
     RayQuery local;
     InstanceFrame frame;
-    if (!toInstanceSpace(g, ray, local, &frame)) return false;
+    if (!ctx.instanceMotion(ref.geomID).toLocal(g, ray, local, &frame)) return false;
     local.instID = ray.instID;
     Hit h;
     const Structure& child = ctx.child(ref.geomID);
@@ -100,7 +100,7 @@ inline bool occludedPrimitive(const SceneContext& ctx, PrimRef ref, const RayQue
   if ((g.mask() & ray.mask) == 0 || !g.timeRange().contains(ray.time)) return false;
   if (g.type() == GeometryType::Instance) {
     RayQuery local;
-    if (!toInstanceSpace(g, ray, local, nullptr)) return false;
+    if (!ctx.instanceMotion(ref.geomID).toLocal(g, ray, local, nullptr)) return false;
     return ctx.child(ref.geomID).occluded(local);
   }
   Hit h;

@@ -35,8 +35,19 @@ SceneContext::SceneContext(const Scene& scene, const BuildOptions& options, Buil
     }
     childOf_[id] = it->second.structure.get();
     childContextOf_[id] = it->second.context.get();
+    instanceMotions_.resize(n);
+    instanceMotions_[id] = InstanceMotion(*geometries_[id]);
   }
   computeInstanceKeyBoxes();
+}
+
+bool SceneContext::refitChildren() {
+  for (auto& [scene, child] : children_) {
+    if (!child.context->refitChildren() || !child.structure->refit()) return false;
+    child.context->computeGeometryKeyBoxes();
+  }
+  computeInstanceKeyBoxes();
+  return true;
 }
 
 SceneContext::~SceneContext() = default;

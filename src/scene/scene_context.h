@@ -11,6 +11,7 @@
 #include "core/build_budget.h"
 #include "core/prim_ref.h"
 #include "core/structure.h"
+#include "scene/instance_space.h"
 #include "mbrt/accel_stats.h"
 #include "mbrt/build_options.h"
 #include "mbrt/scene.h"
@@ -67,6 +68,12 @@ class SceneContext {
 
   // The structure of an instance's scene.
   const Structure& child(uint32_t geomID) const { return *childOf_[geomID]; }
+  // How an instance's ray is taken into its space (instance_space.h).
+  const InstanceMotion& instanceMotion(uint32_t geomID) const { return instanceMotions_[geomID]; }
+  // After new vertex data: refits the structures of instanced scenes (their
+  // own instanced scenes first) and makes their bounds and this level's
+  // instance key boxes again. False when one of them cannot refit.
+  bool refitChildren();
 
   // Bounds, see primitive_bounds.h.
   Box3f keyBox(PrimRef ref, uint32_t key) const { return keys(ref)(key); }
@@ -100,6 +107,7 @@ class SceneContext {
   std::vector<const Structure*> childOf_;                // per geometry (instances only)
   std::vector<const SceneContext*> childContextOf_;      // per geometry (instances only)
   std::vector<std::vector<Box3f>> instanceKeyBoxes_;     // per geometry (instances only)
+  std::vector<InstanceMotion> instanceMotions_;          // per geometry (instances only; empty without)
   std::vector<std::vector<Box3f>> geometryKeyBoxes_;     // per geometry, per key (when instanced)
   std::vector<std::vector<float>> stepTimes_;            // per geometry, per key
 };
