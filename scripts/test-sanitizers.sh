@@ -4,6 +4,9 @@
 # suite under it: every gtest and every CLI test. Heavy tests run at
 # MBRT_TEST_SCALE=0.1 (the sanitizer build's default). Any report aborts
 # the test that triggered it, so the script fails on the first report.
+# Leaks inside third-party libraries are suppressed by scripts/lsan.supp;
+# the Embree API's client programs run in the default build only
+# (embree_api/tests/tests.cmake).
 # Also runs each fuzz target for a few thousand executions when clang is
 # there (FUZZ_SMOKE_RUNS, 0 to skip).
 set -euo pipefail
@@ -22,6 +25,7 @@ cmake --build "$build_dir" -j"$jobs"
 
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan.supp:print_suppressions=0}"
 (cd "$build_dir" && ctest --output-on-failure -j"$jobs" --timeout 1500)
 
 smoke="${FUZZ_SMOKE_RUNS:-0}"

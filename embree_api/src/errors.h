@@ -8,6 +8,7 @@
 // (docs/embree-api.md lists which code goes with which case).
 #pragma once
 
+#include <cstring>
 #include <exception>
 #include <new>
 #include <string>
@@ -30,6 +31,17 @@ struct ApiError {
 void report(Device* device, RTCError code, const std::string& message);
 // rtcGetDeviceError: returns and clears the calling thread's code.
 RTCError takeError(Device* device);
+
+// The value a caller passed for an enum parameter, read as its bytes: a C
+// caller may pass any int (embree_verify does), and reading a value outside
+// the enum's range as the enum is undefined in C++, so arguments are checked
+// on this value before they are used as the enum.
+template <class E>
+std::underlying_type_t<E> passedValue(const E& e) {
+  std::underlying_type_t<E> v;
+  std::memcpy(&v, &e, sizeof v);
+  return v;
+}
 
 // The object a handle names, or fails with RTC_ERROR_INVALID_ARGUMENT.
 template <class T>

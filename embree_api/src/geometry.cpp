@@ -12,7 +12,8 @@
 namespace mbrt::embree_api {
 namespace {
 
-const char* typeName(RTCGeometryType type) {
+// The name Embree gives a geometry type mbrt does not trace; null for none.
+const char* typeName(std::underlying_type_t<RTCGeometryType> type) {
   switch (type) {
     case RTC_GEOMETRY_TYPE_GRID: return "RTC_GEOMETRY_TYPE_GRID";
     case RTC_GEOMETRY_TYPE_SUBDIVISION: return "RTC_GEOMETRY_TYPE_SUBDIVISION";
@@ -71,8 +72,9 @@ RTC_API RTCGeometry rtcNewGeometry(RTCDevice device, RTCGeometryType type) {
   const char* unsupported = nullptr;
   RTCGeometry made = guarded("rtcNewGeometry", device, RTCGeometry(nullptr), [&] {
     Device& d = require<Device>(device, "RTCDevice");
-    if (type != RTC_GEOMETRY_TYPE_TRIANGLE && type != RTC_GEOMETRY_TYPE_QUAD && type != RTC_GEOMETRY_TYPE_INSTANCE) {
-      unsupported = typeName(type);
+    const auto t = passedValue(type);
+    if (t != RTC_GEOMETRY_TYPE_TRIANGLE && t != RTC_GEOMETRY_TYPE_QUAD && t != RTC_GEOMETRY_TYPE_INSTANCE) {
+      unsupported = typeName(t);
       if (!unsupported) fail(RTC_ERROR_UNKNOWN, "invalid geometry type");
     }
     return reinterpret_cast<RTCGeometry>(new Geometry(&d, type));
@@ -174,8 +176,9 @@ RTC_API void rtcSetGeometryMask(RTCGeometry geometry, unsigned int mask) {
 RTC_API void rtcSetGeometryBuildQuality(RTCGeometry geometry, RTCBuildQuality quality) {
   guarded("rtcSetGeometryBuildQuality", geometry, [&] {
     Geometry& g = geometryOf(geometry);
-    if (quality != RTC_BUILD_QUALITY_LOW && quality != RTC_BUILD_QUALITY_MEDIUM && quality != RTC_BUILD_QUALITY_HIGH &&
-        quality != RTC_BUILD_QUALITY_REFIT)
+    const auto q = passedValue(quality);
+    if (q != RTC_BUILD_QUALITY_LOW && q != RTC_BUILD_QUALITY_MEDIUM && q != RTC_BUILD_QUALITY_HIGH &&
+        q != RTC_BUILD_QUALITY_REFIT)
       fail(RTC_ERROR_UNKNOWN, "invalid build quality");  // Embree's code
     g.buildQuality = quality;  // mbrt's kind decides how it builds
   });

@@ -140,7 +140,8 @@ RTC_API RTCSceneFlags rtcGetSceneFlags(RTCScene scene) {
 RTC_API void rtcSetSceneBuildQuality(RTCScene scene, RTCBuildQuality quality) {
   guarded("rtcSetSceneBuildQuality", scene, [&] {
     Scene& s = sceneOf(scene);
-    if (quality != RTC_BUILD_QUALITY_LOW && quality != RTC_BUILD_QUALITY_MEDIUM && quality != RTC_BUILD_QUALITY_HIGH)
+    const auto q = passedValue(quality);
+    if (q != RTC_BUILD_QUALITY_LOW && q != RTC_BUILD_QUALITY_MEDIUM && q != RTC_BUILD_QUALITY_HIGH)
       fail(RTC_ERROR_INVALID_ARGUMENT, "invalid build quality");
     s.buildQuality = quality;  // mbrt's kind decides how it builds
   });
