@@ -113,7 +113,9 @@ if(MBRT_BUILD_TESTS)
   target_link_libraries(mbrt_c_frames PRIVATE mbrt_c)
   add_test(NAME capi.frames_example COMMAND mbrt_c_frames)
 
-  add_executable(mbrt_c_tests ${PROJECT_SOURCE_DIR}/tests/c/test_capi.c)
+  add_executable(mbrt_c_tests ${PROJECT_SOURCE_DIR}/tests/c/test_capi.c ${PROJECT_SOURCE_DIR}/tests/c/test_capi_errors.c
+    ${PROJECT_SOURCE_DIR}/tests/c/test_capi_batches.c ${PROJECT_SOURCE_DIR}/tests/c/test_capi_auto.c
+    ${PROJECT_SOURCE_DIR}/tests/c/capi_test.c)
   set_target_properties(mbrt_c_tests PROPERTIES C_STANDARD 99 C_STANDARD_REQUIRED ON C_EXTENSIONS OFF)
   target_compile_options(mbrt_c_tests PRIVATE ${_mbrt_c_warnings})
   target_link_libraries(mbrt_c_tests PRIVATE mbrt_c Threads::Threads m)
