@@ -225,10 +225,26 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
           }
           continue;
         }
+        lane = __builtin_ctz(mask);
+        mask &= mask - 1;
+        TraversalItem third = laneItem(node, lane, dist[lane]);
+        if (mask == 0) {
+          // Three lanes (the next most common case): sorted in registers by
+          // adjacent exchanges on strictly nearer, which keep ties in lane
+          // order as the sort below does.
+          if (first.dist < second.dist) std::swap(first, second);
+          if (second.dist < third.dist) std::swap(second, third);
+          if (first.dist < second.dist) std::swap(first, second);
+          stack[sp++] = first;
+          stack[sp++] = second;
+          item = third;
+          continue;
+        }
         const uint32_t base = sp;
         stack[sp++] = first;
         stack[sp++] = second;
         if (first.dist < second.dist) std::swap(stack[base], stack[base + 1]);
+        mask |= 1u << lane;  // the third is inserted with the rest
         do {
           lane = __builtin_ctz(mask);
           mask &= mask - 1;
@@ -257,6 +273,34 @@ bool wideTraverse(uint32_t stackSize, const RayQuery& ray, TraversalCounters* co
   return found;
 }
 
+// traverse (below) of a tree whose nodes have lane time ranges (TimedLanes:
+// stbvh's spatial-temporal nodes) or of one without (the others, whose
+// visits then skip the lanes' time check).
+template <bool AnyHit, bool Count, bool TimedLanes, int N, bool Motion, LeafFormat Leaves>
+bool traverseTree(const WideBvh<N, Motion>& bvh, const Leaves& leaves, const SceneContext& ctx, RayQuery& nodeRay,
+                  RayQuery& leafRay, float boxTime, Hit* hit, TraversalCounters* counters) {
+  const NodeRay<packWidth<N>()> r(nodeRay, boxTime);
+  const typename Leaves::RayState state = leaves.rayState(leafRay);
+  const auto nodeAt = [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; };
+  return wideTraverse<AnyHit, Count, N>(
+      bvh.stackSize, nodeRay, counters, nodeAt,
+      [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
+        const LaneTimes<N>* times = nullptr;
+        if constexpr (TimedLanes)
+          if (node.hasTimes()) times = &bvh.times[node.times];
+        return intersectNode<packWidth<N>()>(node, r, nodeRay.tfar, dist, times);
+      },
+      [&](const TraversalItem& item) {
+        PrimRef one;
+        const LeafRefs refs{item.references(bvh.prims.data(), one), item.leafSize(),
+                            item.count & TraversalItem::kInline ? LeafRefs::kNoTable : item.child};
+        const bool found = leaves.template test<AnyHit, Count>(ctx, refs, leafRay, state, hit, counters);
+        if constexpr (!AnyHit) nodeRay.tfar = leafRay.tfar;
+        return found;
+      },
+      NodeLines<decltype(nodeAt)>{nodeAt, prefetchPays(bvh.nodes.size() * sizeof(WideNode<N, Motion>))});
+}
+
 // Closest hit (AnyHit = false: `hit` updated, ray.tfar shrinks) or any hit
 // of a wide BVH whose leaves are laid out in `leaves` (a leaf format,
 // leaves/leaf_format.h). boxTime is the ray's time in the tree's time
@@ -271,24 +315,9 @@ template <bool AnyHit, bool Count, int N, bool Motion, LeafFormat Leaves>
 bool traverse(const WideBvh<N, Motion>& bvh, const Leaves& leaves, const SceneContext& ctx, RayQuery& nodeRay,
               RayQuery& leafRay, float boxTime, Hit* hit, TraversalCounters* counters) {
   if (bvh.empty()) return false;
-  const NodeRay<packWidth<N>()> r(nodeRay, boxTime);
-  const typename Leaves::RayState state = leaves.rayState(leafRay);
-  const auto nodeAt = [&](uint32_t i) -> const WideNode<N, Motion>& { return bvh.nodes[i]; };
-  return wideTraverse<AnyHit, Count, N>(
-      bvh.stackSize, nodeRay, counters, nodeAt,
-      [&](const WideNode<N, Motion>& node, uint32_t, float* dist) {
-        const LaneTimes<N>* times = node.hasTimes() ? &bvh.times[node.times] : nullptr;
-        return intersectNode<packWidth<N>()>(node, r, nodeRay.tfar, dist, times);
-      },
-      [&](const TraversalItem& item) {
-        PrimRef one;
-        const LeafRefs refs{item.references(bvh.prims.data(), one), item.leafSize(),
-                            item.count & TraversalItem::kInline ? LeafRefs::kNoTable : item.child};
-        const bool found = leaves.template test<AnyHit, Count>(ctx, refs, leafRay, state, hit, counters);
-        if constexpr (!AnyHit) nodeRay.tfar = leafRay.tfar;
-        return found;
-      },
-      NodeLines<decltype(nodeAt)>{nodeAt, prefetchPays(bvh.nodes.size() * sizeof(WideNode<N, Motion>))});
+  if (bvh.times.empty())
+    return traverseTree<AnyHit, Count, false>(bvh, leaves, ctx, nodeRay, leafRay, boxTime, hit, counters);
+  return traverseTree<AnyHit, Count, true>(bvh, leaves, ctx, nodeRay, leafRay, boxTime, hit, counters);
 }
 
 template <bool AnyHit, bool Count, int N, bool Motion, LeafFormat Leaves>

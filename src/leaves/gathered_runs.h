@@ -26,6 +26,21 @@ inline constexpr int kLeafBlockWidth = 4;
 // segment run never needs).
 struct LeafBlockRay : BlockRay<kLeafBlockWidth> {
   explicit LeafBlockRay(const RayQuery& ray) : BlockRay<kLeafBlockWidth>(ray) {}
+  // Whether geometry geomID (g) can be hit by the ray (its mask and time
+  // range), and the segment of its steps at the ray's time (s, f as
+  // Geometry::segmentAt): the same for every leaf of g along the ray, so
+  // worked out once per geometry met in a row (a motion tree's leaves are
+  // mostly of one mesh).
+  bool segmentOf(uint32_t geomID, const Geometry& g, const RayQuery& ray, uint32_t& s, float& f) const {
+    if (geomID != segmentGeom_) {
+      segmentGeom_ = geomID;
+      segmentLive_ = (g.mask() & ray.mask) != 0 && g.timeRange().contains(ray.time);
+      if (segmentLive_) g.segmentAt(ray.time, segment_, fraction_);
+    }
+    s = segment_;
+    f = fraction_;
+    return segmentLive_;
+  }
   // Valid while the ray's origin and direction are unchanged.
   const SegmentBlockRay<kLeafBlockWidth>& segments(const RayQuery& ray) const {
     if (!segmentsMade_) {
@@ -38,6 +53,10 @@ struct LeafBlockRay : BlockRay<kLeafBlockWidth> {
  private:
   mutable SegmentBlockRay<kLeafBlockWidth> segments_;
   mutable bool segmentsMade_ = false;
+  mutable uint32_t segmentGeom_ = 0xFFFFFFFFu;  // the geometry of segment_ (none yet)
+  mutable bool segmentLive_ = false;
+  mutable uint32_t segment_ = 0;
+  mutable float fraction_ = 0.0f;
 };
 
 namespace leaf_block {
@@ -59,11 +78,11 @@ inline bool closestOf(RayQuery& ray, Hit& hit, Test&& test) {
 // The lanes in `valid` of one block: onHit(hit) for each candidate hit in
 // lane order, as testing the lanes' triangles one by one would call it;
 // stops when onHit returns true. ref(lane) is the lane's reference; r is
-// BlockRay(ray), made once per ray.
-template <class Ref, class OnHit>
-[[gnu::always_inline]] inline bool testBlock(const TriangleBlock<kLeafBlockWidth>& tri, uint32_t valid,
-                                             const Ref& ref, RayQuery& ray, const BlockRay<kLeafBlockWidth>& r,
-                                             OnHit&& onHit) {
+// BlockRay(ray), made once per ray. tri: a TriangleBlock or a block read
+// like one (LerpedTriangleBlock).
+template <class Block, class Ref, class OnHit>
+[[gnu::always_inline]] inline bool testBlock(const Block& tri, uint32_t valid, const Ref& ref, RayQuery& ray,
+                                             const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
   TriangleBlockResult<kLeafBlockWidth> res;
   intersectTriangleBlock(ray, r, tri, valid, res);
   for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {

@@ -102,29 +102,26 @@ class MotionBlockLeaves {
   // returns true.
   template <class OnHit>
   bool testBlocks(const SceneContext& ctx, const Leaf& l, const LeafRefs& leaf, RayQuery& ray,
-                  const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit) const {
+                  const LeafBlockRay& r, OnHit&& onHit) const {
     using P = Pack<kLeafBlockWidth>;
     constexpr int W = kLeafBlockWidth;
-    const Geometry& g = ctx.geometry(l.geomID);
-    if ((g.mask() & ray.mask) == 0 || !g.timeRange().contains(ray.time)) return false;  // as the run's check
     uint32_t s;
     float f;
-    g.segmentAt(ray.time, s, f);  // as VerticesAt
+    // As the run's check of mask and time range, and VerticesAt's segment.
+    if (!r.segmentOf(l.geomID, ctx.geometry(l.geomID), ray, s, f)) return false;
     const P w0 = P::set1(1.0f - f), w1 = P::set1(f);
     const TriangleBlock<W>* b = blocks_.data() + l.first;
-    alignas(4 * W) TriangleBlock<W> at;  // the block at the ray's time
     const PrimRef* prims = leaf.prims;
     for (uint32_t first = 0; first < leaf.count; first += W, b += l.steps) {
-      const TriangleBlock<W>* tri = b;
-      if (l.steps > 1) {
-        const TriangleBlock<W>&a = b[s], &c = b[s + 1];
-        for (int k = 0; k < 3; ++k)
-          for (int axis = 0; axis < 3; ++axis)
-            (P::load(a.p[k][axis]) * w0 + P::load(c.p[k][axis]) * w1).store(at.p[k][axis]);
-        tri = &at;
-      }
       const auto ref = [prims, first](int lane) { return prims[first + uint32_t(lane)]; };
-      if (leaf_block::testBlock(*tri, leaf_block::presentLanes(leaf.count - first), ref, ray, r, onHit)) return true;
+      const uint32_t valid = leaf_block::presentLanes(leaf.count - first);
+      if (l.steps == 1) {
+        if (leaf_block::testBlock(*b, valid, ref, ray, r, onHit)) return true;
+        continue;
+      }
+      // The block at the ray's time, interpolated as it is read.
+      const LerpedTriangleBlock<W> at{b[s], b[s + 1], w0, w1, 1.0f - f, f};
+      if (leaf_block::testBlock(at, valid, ref, ray, r, onHit)) return true;
     }
     return false;
   }
