@@ -29,28 +29,6 @@ struct alignas(4 * W) TriangleBlock {
       for (int a = 0; a < 3; ++a) p[k][a][lane] = v[k][a];
   }
   Vec3f vertex(int k, int lane) const { return {p[k][0][lane], p[k][1][lane], p[k][2][lane]}; }
-  // Vertex k's coordinates on world axis `axis`, one lane per triangle.
-  Pack<W> row(int k, int axis) const { return Pack<W>::load(p[k][axis]); }
-};
-
-// The block between two steps' blocks a and b at weights w0 = 1 - f and
-// w1 = f (a motion leaf at the ray's time), read as a TriangleBlock is
-// without being stored: each row and vertex interpolated on demand as
-// a * (1 - f) + b * f (lane by lane the same operations, no FMA, so a row's
-// lanes and a vertex are the same floats).
-template <int W>
-struct LerpedTriangleBlock {
-  const TriangleBlock<W>& a;
-  const TriangleBlock<W>& b;
-  Pack<W> w0, w1;
-  float f0, f1;  // w0 and w1 as scalars
-
-  Pack<W> row(int k, int axis) const { return a.row(k, axis) * w0 + b.row(k, axis) * w1; }
-  Vec3f vertex(int k, int lane) const {
-    Vec3f v;
-    for (int axis = 0; axis < 3; ++axis) v[axis] = a.p[k][axis][lane] * f0 + b.p[k][axis][lane] * f1;
-    return v;
-  }
 };
 
 template <int W>
@@ -87,16 +65,16 @@ struct BlockRay {
 };
 
 // The lanes in `valid` of block b against the ray (its tnear and tfar now);
-// r is BlockRay(ray). b is a TriangleBlock or a block read like one
-// (b.row(vertex, axis): LerpedTriangleBlock). Inlined: the caller's block
-// rows are then read straight into the test.
-template <int W, class Block>
-[[gnu::always_inline]] inline void intersectTriangleBlock(const RayQuery& ray, const BlockRay<W>& r, const Block& b,
-                                                          uint32_t valid, TriangleBlockResult<W>& out) {
+// r is BlockRay(ray). Inlined into each leaf format's loop (fewer
+// instructions than the call, docs/performance.md).
+template <int W>
+[[gnu::always_inline]] inline void intersectTriangleBlock(const RayQuery& ray, const BlockRay<W>& r,
+                                                          const TriangleBlock<W>& b, uint32_t valid,
+                                                          TriangleBlockResult<W>& out) {
   using P = Pack<W>;
   P rel[3][3];  // vertex - org, per permuted component: (v - org)[k] as the scalar test
   for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < 3; ++k) rel[k][c] = b.row(k, r.axis[c]) - r.org[c];
+    for (int k = 0; k < 3; ++k) rel[k][c] = P::load(b.p[k][r.axis[c]]) - r.org[c];
   const P Sx = r.Sx, Sy = r.Sy, Sz = r.Sz;
   const P Ax = rel[0][0] - Sx * rel[0][2], Ay = rel[0][1] - Sy * rel[0][2];
   const P Bx = rel[1][0] - Sx * rel[1][2], By = rel[1][1] - Sy * rel[1][2];

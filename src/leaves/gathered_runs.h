@@ -78,11 +78,11 @@ inline bool closestOf(RayQuery& ray, Hit& hit, Test&& test) {
 // The lanes in `valid` of one block: onHit(hit) for each candidate hit in
 // lane order, as testing the lanes' triangles one by one would call it;
 // stops when onHit returns true. ref(lane) is the lane's reference; r is
-// BlockRay(ray), made once per ray. tri: a TriangleBlock or a block read
-// like one (LerpedTriangleBlock).
-template <class Block, class Ref, class OnHit>
-[[gnu::always_inline]] inline bool testBlock(const Block& tri, uint32_t valid, const Ref& ref, RayQuery& ray,
-                                             const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
+// BlockRay(ray), made once per ray.
+template <class Ref, class OnHit>
+[[gnu::always_inline]] inline bool testBlock(const TriangleBlock<kLeafBlockWidth>& tri, uint32_t valid,
+                                             const Ref& ref, RayQuery& ray, const BlockRay<kLeafBlockWidth>& r,
+                                             OnHit&& onHit) {
   TriangleBlockResult<kLeafBlockWidth> res;
   intersectTriangleBlock(ray, r, tri, valid, res);
   for (uint32_t todo = res.candidates | res.scalar; todo != 0; todo &= todo - 1) {

@@ -111,17 +111,19 @@ class MotionBlockLeaves {
     if (!r.segmentOf(l.geomID, ctx.geometry(l.geomID), ray, s, f)) return false;
     const P w0 = P::set1(1.0f - f), w1 = P::set1(f);
     const TriangleBlock<W>* b = blocks_.data() + l.first;
+    alignas(4 * W) TriangleBlock<W> at;  // the block at the ray's time
     const PrimRef* prims = leaf.prims;
     for (uint32_t first = 0; first < leaf.count; first += W, b += l.steps) {
-      const auto ref = [prims, first](int lane) { return prims[first + uint32_t(lane)]; };
-      const uint32_t valid = leaf_block::presentLanes(leaf.count - first);
-      if (l.steps == 1) {
-        if (leaf_block::testBlock(*b, valid, ref, ray, r, onHit)) return true;
-        continue;
+      const TriangleBlock<W>* tri = b;
+      if (l.steps > 1) {
+        const TriangleBlock<W>&a = b[s], &c = b[s + 1];
+        for (int k = 0; k < 3; ++k)
+          for (int axis = 0; axis < 3; ++axis)
+            (P::load(a.p[k][axis]) * w0 + P::load(c.p[k][axis]) * w1).store(at.p[k][axis]);
+        tri = &at;
       }
-      // The block at the ray's time, interpolated as it is read.
-      const LerpedTriangleBlock<W> at{b[s], b[s + 1], w0, w1, 1.0f - f, f};
-      if (leaf_block::testBlock(at, valid, ref, ray, r, onHit)) return true;
+      const auto ref = [prims, first](int lane) { return prims[first + uint32_t(lane)]; };
+      if (leaf_block::testBlock(*tri, leaf_block::presentLanes(leaf.count - first), ref, ray, r, onHit)) return true;
     }
     return false;
   }
