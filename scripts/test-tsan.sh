@@ -20,8 +20,9 @@ start=$SECONDS
 
 # -O1: sanitizer builds compile faster and the checks matter more than speed.
 # No Embree, tools or Python: the target links mbrt_accel alone.
+# Unity build (CMakeLists.txt): 86 s of CPU instead of 119 s for a clean tree.
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
-  -DMBRT_SANITIZE=thread -DMBRT_WITH_EMBREE=OFF -DMBRT_BUILD_TOOLS=OFF -DMBRT_PYTHON=OFF > /dev/null
+  -DMBRT_SANITIZE=thread -DMBRT_WITH_EMBREE=OFF -DMBRT_BUILD_TOOLS=OFF -DMBRT_PYTHON=OFF -DCMAKE_UNITY_BUILD=ON > /dev/null
 targets=(mbrt_thread_tests)
 embree_api=0
 if grep -q '^MBRT_EMBREE_API:BOOL=ON' "$build_dir/CMakeCache.txt"; then
