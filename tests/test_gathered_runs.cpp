@@ -27,25 +27,40 @@ using namespace test;  // leaf_test_grid.h
 // through intersectLeaf and occludedLeaf with the block ray (the triangles
 // read through the primitive ids, or from ReferenceTriangleLeaves) against the
 // same without it and against intersectPrimitive one by one; geometries of
-// 1, 2 and 5 steps, one alive over part of the shutter, and one whose
-// vertices are the caller's, 20 bytes apart from an odd address (the
-// gather's 12-byte loads at any alignment, none past a vertex).
+// 1, 2 and 5 steps, one alive over part of the shutter, and two whose
+// vertices are the caller's: one 12 bytes apart from an odd address (the
+// gather's 12-byte loads at any alignment, none past a vertex), one 16
+// bytes apart in buffers that end at the last vertex's fourth float (the
+// 16-byte loads of buffers that allow them, PackedVerticesAt).
 TEST(LeafBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
   Scene scene;
   addMotionGrids(scene);
   const uint32_t shared = addGrid(scene, 4, 1.0f, 0.5f, 2, true);
-  // The shared grid's steps copied 20 bytes apart from an odd address,
+  const uint32_t shared16 = addGrid(scene, 4, 2.0f, 0.25f, 2, true);
+  // The shared grid's steps copied 12 bytes apart from an odd address,
   // ending exactly at the last vertex's z (nothing readable after it).
   std::vector<std::vector<char>> bytes(2);
   for (uint32_t k = 0; k < 2; ++k) {
     const VertexBuffer& v = scene.geometry(shared).vertices(k);
-    bytes[k].assign(1 + 20 * (v.count - 1) + 12, 0);
+    bytes[k].assign(1 + 12 * v.count, 0);
     for (size_t i = 0; i < v.count; ++i) {
       const Vec3f p = v[i];
-      std::memcpy(bytes[k].data() + 1 + 20 * i, &p, sizeof p);
+      std::memcpy(bytes[k].data() + 1 + 12 * i, &p, sizeof p);
     }
-    scene.setVertices(shared, k, VertexBuffer{bytes[k].data() + 1, 20, v.count, 0});
+    scene.setVertices(shared, k, VertexBuffer{bytes[k].data() + 1, 12, v.count, 0});
   }
+  std::vector<std::vector<float>> floats(2);
+  for (uint32_t k = 0; k < 2; ++k) {
+    const VertexBuffer& v = scene.geometry(shared16).vertices(k);
+    floats[k].assign(4 * v.count, -1.0f);
+    for (size_t i = 0; i < v.count; ++i) {
+      const Vec3f p = v[i];
+      std::memcpy(&floats[k][4 * i], &p, sizeof p);
+    }
+    scene.setVertices(shared16, k, VertexBuffer{floats[k].data(), 16, v.count, 0});
+  }
+  ASSERT_TRUE(detail::leaf_block::wideReadable(scene.geometry(shared16).vertices(1)));
+  ASSERT_FALSE(detail::leaf_block::wideReadable(scene.geometry(shared).vertices(1)));
   BuildOptions o;
   detail::BuildBudget budget;
   const detail::SceneContext ctx(scene, o, budget);

@@ -5,21 +5,37 @@
 
 #include <bit>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <cmath>
 #include <limits>
 
 #include "accel/structure_factory.h"
 #include "core/isolated_work.h"
+#include "core/simd.h"
 #include "scene/scene_context.h"
 
 namespace mbrt {
 
-bool isValidRay(const Ray& r) {
-  const bool finite = isFinite(r.org) && isFinite(r.dir) && !std::isnan(r.tnear) && !std::isnan(r.tfar) &&
-                      std::isfinite(r.tnear);
-  return finite && !(r.dir == Vec3f(0.0f)) && r.time >= 0.0f && r.time <= 1.0f && r.tnear <= r.tfar;
+namespace {
+
+// isValidRay on two 4-lane loads, org with tnear and dir with tfar: the
+// seven values that must be finite compared at once (NaN fails), the
+// direction's three against zero. tfar may be +inf; a NaN tfar fails
+// tnear <= tfar, tnear being finite by then.
+inline bool validRay(const Ray& r) {
+  static_assert(offsetof(Ray, tnear) == 12 && offsetof(Ray, dir) == 16 && offsetof(Ray, tfar) == 28);
+  using P = detail::Pack<4>;
+  const P orgNear = P::loadu(&r.org.x), dirFar = P::loadu(&r.dir.x);
+  const P inf = P::set1(kInf);
+  const bool finite = lessMask(abs(orgNear), inf) == 0xFu && (lessMask(abs(dirFar), inf) & 0x7u) == 0x7u;
+  const bool moving = (equalMask(dirFar, P::set1(0.0f)) & 0x7u) != 0x7u;
+  return finite && moving && r.time >= 0.0f && r.time <= 1.0f && r.tnear <= r.tfar;
 }
+
+}  // namespace
+
+bool isValidRay(const Ray& r) { return validRay(r); }
 
 namespace {
 
@@ -168,7 +184,7 @@ bool Accel::refit() {
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
   checkScene();
   hit = Hit();
-  if (!isValidRay(ray)) {
+  if (!validRay(ray)) {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
@@ -180,7 +196,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 
 bool Accel::occluded(const Ray& ray) const {
   checkScene();
-  if (!isValidRay(ray)) {
+  if (!validRay(ray)) {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
@@ -191,7 +207,7 @@ bool Accel::occluded(const Ray& ray) const {
 bool Accel::intersect(const Ray& ray, Hit& hit, TraversalCounters& counters) const {
   checkScene();
   hit = Hit();
-  if (!isValidRay(ray)) {
+  if (!validRay(ray)) {
     invalidRays_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }

@@ -109,6 +109,12 @@ struct Pack {
   friend uint32_t lessEqualMask(Pack a, Pack b) { return mask(a, b, [](float x, float y) { return x <= y; }); }
   friend uint32_t lessMask(Pack a, Pack b) { return mask(a, b, [](float x, float y) { return x < y; }); }
   friend uint32_t equalMask(Pack a, Pack b) { return mask(a, b, [](float x, float y) { return x == y; }); }
+  // Bit i: lane i's sign bit (of a lane mask: whether lane i is set).
+  friend uint32_t laneBits(Pack a) {
+    uint32_t m = 0;
+    for (int i = 0; i < W; ++i) m |= (std::bit_cast<uint32_t>(a.v[i]) >> 31) << i;
+    return m;
+  }
 
  private:
   template <class F>
@@ -215,6 +221,7 @@ struct Pack<4> {
   friend uint32_t lessEqualMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmple_ps(a.v, b.v))); }
   friend uint32_t lessMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmplt_ps(a.v, b.v))); }
   friend uint32_t equalMask(Pack a, Pack b) { return uint32_t(_mm_movemask_ps(_mm_cmpeq_ps(a.v, b.v))); }
+  friend uint32_t laneBits(Pack a) { return uint32_t(_mm_movemask_ps(a.v)); }
 };
 #endif
 
@@ -262,6 +269,7 @@ struct Pack<8> {
   friend uint32_t equalMask(Pack a, Pack b) {
     return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)));
   }
+  friend uint32_t laneBits(Pack a) { return uint32_t(_mm256_movemask_ps(a.v)); }
 };
 #endif
 

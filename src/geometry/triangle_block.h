@@ -83,11 +83,12 @@ template <int W>
   const P V = Ax * Cy - Ay * Cx;
   const P Wt = Bx * Ay - By * Ax;
   const P zero = P::set1(0.0f);
-  const uint32_t zeroEdge = equalMask(U, zero) | equalMask(V, zero) | equalMask(Wt, zero);
-  const uint32_t negative = lessMask(U, zero) | lessMask(V, zero) | lessMask(Wt, zero);
-  const uint32_t positive = lessMask(zero, U) | lessMask(zero, V) | lessMask(zero, Wt);
+  // The edge tests combined as lane masks, one bit mask each at the end.
+  const uint32_t zeroEdge = laneBits(equalLanes(U, zero) | equalLanes(V, zero) | equalLanes(Wt, zero));
+  const P negative = lessLanes(U, zero) | lessLanes(V, zero) | lessLanes(Wt, zero);
+  const P positive = lessLanes(zero, U) | lessLanes(zero, V) | lessLanes(zero, Wt);
   const P det = U + V + Wt;
-  const uint32_t edgesPass = valid & ~zeroEdge & ~(negative & positive) & ~equalMask(det, zero);
+  const uint32_t edgesPass = valid & ~zeroEdge & ~laneBits((negative & positive) | equalLanes(det, zero));
   out.scalar = valid & zeroEdge;
   out.candidates = 0;
   if (edgesPass == 0) return;

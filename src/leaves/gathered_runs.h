@@ -110,14 +110,24 @@ inline uint32_t presentLanes(uint32_t left) {
 // cheaper tested by itself.
 inline constexpr uint32_t kGatheredRunMin = 2;
 
+// Whether every vertex of b may be read as 16 bytes, its x, y, z and the 4
+// bytes after them: VertexBuffer's rule (scene.h; the scene pads the
+// buffers it owns, Embree asks the same of shared ones).
+inline bool wideReadable(const VertexBuffer& b) { return b.stride >= 16 || b.padding >= 4; }
+
 // A geometry's vertices at the ray's time, one to a pack (lanes 0-2: x, y,
-// z), for the gathered blocks: each vertex is one 12-byte load per step
-// (at any alignment, never past the vertex), the two steps interpolated as
-// VerticesAt does (a * (1 - f) + b * f, the same operations lane by lane).
+// z; lane 3 is not used), for the gathered blocks, the two steps
+// interpolated as VerticesAt does (a * (1 - f) + b * f, the same operations
+// lane by lane). Two forms, picked once per run :
+// - Lerped: two steps at one stride, both wideReadable: a vertex's offset
+//   is worked out once and each step read with one 16-byte load.
+// - General: one step or two, any strides; each vertex is one 12-byte load
+//   per step at any alignment, never past the vertex.
+template <bool Lerped>
 struct PackedVerticesAt {
   using P = Pack<kLeafBlockWidth>;
   const char* d0;
-  const char* d1;  // null: static geometry
+  const char* d1;  // null: static geometry (General only)
   size_t s0, s1;
   P w0, w1;
 
@@ -128,10 +138,20 @@ struct PackedVerticesAt {
         s1(at.v1 ? at.v1->stride : 0),
         w0(P::set1(1.0f - at.f)),
         w1(P::set1(at.f)) {}
+  // Whether `at` may take the Lerped form.
+  static bool fits(const leaf_run::VerticesAt& at) {
+    return at.v1 && at.v0->stride == at.v1->stride && wideReadable(*at.v0) && wideReadable(*at.v1);
+  }
   [[gnu::always_inline]] P operator[](uint32_t i) const {
-    P p = P::load3(reinterpret_cast<const float*>(d0 + i * s0));
-    if (d1) p = p * w0 + P::load3(reinterpret_cast<const float*>(d1 + i * s1)) * w1;
-    return p;
+    if constexpr (Lerped) {
+      const size_t offset = i * s0;  // s1 == s0
+      return P::loadu(reinterpret_cast<const float*>(d0 + offset)) * w0 +
+             P::loadu(reinterpret_cast<const float*>(d1 + offset)) * w1;
+    } else {
+      P p = P::load3(reinterpret_cast<const float*>(d0 + i * s0));
+      if (d1) p = p * w0 + P::load3(reinterpret_cast<const float*>(d1 + i * s1)) * w1;
+      return p;
+    }
   }
 };
 
@@ -146,26 +166,21 @@ struct PackedVerticesAt {
   pz.store(z);
 }
 
-// A run's triangles gathered into blocks of four at the ray's time through
-// their indices, as Embree's Triangle4i and Triangle4iMB leaves do
-// (PackedVerticesAt), and tested by testBlock. onHit(hit) for each
-// candidate hit in reference order, as testRun would call it; stops when
-// onHit returns true. `indices`, when given, holds the references'
-// triangles (ReferenceTriangles, parallel to `prims`); else each is read
-// through its primitive id.
-template <class OnHit>
-inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
-                            const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit, const Triangle* indices = nullptr) {
+// The blocks of a run's triangles, their vertices read through `at`
+// (PackedVerticesAt): testGatheredRun below.
+template <class At, class TriangleOf, class OnHit>
+[[gnu::always_inline]] inline bool testTriangleBlocks(const At& at, const TriangleOf& triangleOf,
+                                                      const PrimRef* prims, uint32_t begin, uint32_t end,
+                                                      RayQuery& ray, const BlockRay<kLeafBlockWidth>& r,
+                                                      OnHit& onHit) {
   constexpr int W = kLeafBlockWidth;
-  const PackedVerticesAt at(leaf_run::VerticesAt(g, ray.time));
-  const std::span<const Triangle> tris = g.triangles();
   TriangleBlock<W> block;
   for (uint32_t first = begin; first < end; first += W) {
     Pack<W> v[3][W];
     for (int lane = 0; lane < W; ++lane) {
       // Lanes past the run's end repeat its last triangle (not tested).
       const uint32_t i = std::min(first + uint32_t(lane), end - 1);
-      const Triangle& t = indices ? indices[i] : tris[prims[i].primID];
+      const Triangle& t = triangleOf(i);
       v[0][lane] = at[t.v0];
       v[1][lane] = at[t.v1];
       v[2][lane] = at[t.v2];
@@ -177,17 +192,35 @@ inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t be
   return false;
 }
 
-// A run's segments gathered four at a time into a block at the ray's time
-// (geometry/segment_block.h) as the triangles are (PackedVerticesAt), the
-// values `frozen`'s segment blocks hold at their time: the block sorts out
-// four at a time the lanes whose line misses the solid, and the rest go to
-// intersectSegment in reference order, so onHit(hit) is called as testRun
-// would call it; stops when onHit returns true.
+// A run's triangles gathered into blocks of four at the ray's time through
+// their indices, as Embree's Triangle4i and Triangle4iMB leaves do
+// (PackedVerticesAt, in the form the geometry's buffers allow), and tested
+// by testBlock. onHit(hit) for each candidate hit in reference order, as
+// testRun would call it; stops when onHit returns true. `indices`, when
+// given, holds the references' triangles (ReferenceTriangles, parallel to
+// `prims`); else each is read through its primitive id.
 template <class OnHit>
-inline bool testGatheredSegments(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end,
-                                 RayQuery& ray, const SegmentBlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
+inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end, RayQuery& ray,
+                            const BlockRay<kLeafBlockWidth>& r, OnHit&& onHit, const Triangle* indices = nullptr) {
+  const leaf_run::VerticesAt at(g, ray.time);
+  const std::span<const Triangle> tris = g.triangles();
+  const auto byIndex = [indices](uint32_t i) -> const Triangle& { return indices[i]; };
+  const auto byPrim = [tris, prims](uint32_t i) -> const Triangle& { return tris[prims[i].primID]; };
+  if (PackedVerticesAt<true>::fits(at)) {
+    if (indices) return testTriangleBlocks(PackedVerticesAt<true>(at), byIndex, prims, begin, end, ray, r, onHit);
+    return testTriangleBlocks(PackedVerticesAt<true>(at), byPrim, prims, begin, end, ray, r, onHit);
+  }
+  if (indices) return testTriangleBlocks(PackedVerticesAt<false>(at), byIndex, prims, begin, end, ray, r, onHit);
+  return testTriangleBlocks(PackedVerticesAt<false>(at), byPrim, prims, begin, end, ray, r, onHit);
+}
+
+// The blocks of a run's segments, their vertices read through `at`:
+// testGatheredSegments below.
+template <class At, class OnHit>
+[[gnu::always_inline]] inline bool testSegmentBlocks(const At& at, const Geometry& g, const PrimRef* prims,
+                                                     uint32_t begin, uint32_t end, RayQuery& ray,
+                                                     const SegmentBlockRay<kLeafBlockWidth>& r, OnHit& onHit) {
   constexpr int W = kLeafBlockWidth;
-  const PackedVerticesAt at(leaf_run::VerticesAt(g, ray.time));
   const std::span<const Segment> segs = g.segments();
   const std::span<const float> radii = g.radii();
   SegmentBlock<W> block;
@@ -212,6 +245,21 @@ inline bool testGatheredSegments(const Geometry& g, const PrimRef* prims, uint32
     }
   }
   return false;
+}
+
+// A run's segments gathered four at a time into a block at the ray's time
+// (geometry/segment_block.h) as the triangles are (PackedVerticesAt), the
+// values `frozen`'s segment blocks hold at their time: the block sorts out
+// four at a time the lanes whose line misses the solid, and the rest go to
+// intersectSegment in reference order, so onHit(hit) is called as testRun
+// would call it; stops when onHit returns true.
+template <class OnHit>
+inline bool testGatheredSegments(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end,
+                                 RayQuery& ray, const SegmentBlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
+  const leaf_run::VerticesAt at(g, ray.time);
+  if (PackedVerticesAt<true>::fits(at))
+    return testSegmentBlocks(PackedVerticesAt<true>(at), g, prims, begin, end, ray, r, onHit);
+  return testSegmentBlocks(PackedVerticesAt<false>(at), g, prims, begin, end, ray, r, onHit);
 }
 
 // A plain run of g with the block ray: gathered into blocks when it has two
