@@ -5,6 +5,7 @@
 // distance scaled by 1 + 2*gamma(3); node bounds are already widened.
 #pragma once
 
+#include <cstddef>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -30,12 +31,14 @@ struct NodeRay {
 
   // Inlined: each tree type reads only its members, the others are dropped.
   [[gnu::always_inline]] NodeRay(const RayQuery& ray, float boxTime) : t(boxTime), omt(1.0f - boxTime) {
-    orgs[3] = rdirs[3] = 0.0f;
-    tame = true;
+    using P4 = Pack<4>;  // org and rdir as packs, lane 3 cleared: one compare each for `tame`
+    static_assert(offsetof(RayQuery, org) + 16 <= sizeof(RayQuery) &&
+                  offsetof(RayQuery, rdir) + 16 <= sizeof(RayQuery));
+    const P4 o = clearLastLane(P4::loadu(&ray.org.x)), d = clearLastLane(P4::loadu(&ray.rdir.x));
+    o.store(orgs);
+    d.store(rdirs);
+    tame = (lessMask(abs(o), P4::set1(0x1p60f)) & lessMask(abs(d), P4::set1(0x1p56f))) == 0xFu;
     for (int a = 0; a < 3; ++a) {
-      orgs[a] = ray.org[a];
-      rdirs[a] = ray.rdir[a];
-      tame = tame && std::fabs(ray.org[a]) < 0x1p60f && std::fabs(ray.rdir[a]) < 0x1p56f;
       org[a] = Pack<W>::set1(ray.org[a]);
       rdir[a] = Pack<W>::set1(ray.rdir[a]);
       nearPlane[a] = std::signbit(ray.rdir[a]) ? 1 : 0;

@@ -51,13 +51,19 @@ struct TriangleBlockResult {
 
 // What the block test needs of a ray that does not change along its
 // traversal (all but tfar), broadcast once per ray: the origin in the
-// permuted axes, the shear, and the axes' rows of a block.
+// permuted axes, the shear, and the permuted axes' rows of a block as byte
+// offsets into a vertex's rows (so that a leaf works out no addresses).
 template <int W>
 struct BlockRay {
   Pack<W> org[3], Sx, Sy, Sz;
-  int axis[3];
-  explicit BlockRay(const RayQuery& ray) : axis{ray.kx, ray.ky, ray.kz} {
-    for (int c = 0; c < 3; ++c) org[c] = Pack<W>::set1(ray.org[axis[c]]);
+  size_t row[3];
+  explicit BlockRay(const RayQuery& ray) {
+    const int axis[3] = {ray.kx, ray.ky, ray.kz};
+    const float o[3] = {ray.org.x, ray.org.y, ray.org.z};  // indexed, not branched on (ray_query.h)
+    for (int c = 0; c < 3; ++c) {
+      org[c] = Pack<W>::set1(o[axis[c]]);
+      row[c] = size_t(axis[c]) * sizeof(TriangleBlock<W>::p[0][0]);
+    }
     Sx = Pack<W>::set1(ray.Sx);
     Sy = Pack<W>::set1(ray.Sy);
     Sz = Pack<W>::set1(ray.Sz);
@@ -74,7 +80,8 @@ template <int W>
   using P = Pack<W>;
   P rel[3][3];  // vertex - org, per permuted component: (v - org)[k] as the scalar test
   for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < 3; ++k) rel[k][c] = P::load(b.p[k][r.axis[c]]) - r.org[c];
+    for (int k = 0; k < 3; ++k)
+      rel[k][c] = P::load(reinterpret_cast<const float*>(reinterpret_cast<const char*>(b.p[k]) + r.row[c])) - r.org[c];
   const P Sx = r.Sx, Sy = r.Sy, Sz = r.Sz;
   const P Ax = rel[0][0] - Sx * rel[0][2], Ay = rel[0][1] - Sy * rel[0][2];
   const P Bx = rel[1][0] - Sx * rel[1][2], By = rel[1][1] - Sy * rel[1][2];
