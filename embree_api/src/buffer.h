@@ -23,6 +23,9 @@ class Buffer final : public Object {
 
   char* data() const { return data_; }
   size_t size() const { return bytes_; }
+  // Bytes that may be read from data(): the size, and for owned memory the
+  // 16 bytes more it was given.
+  size_t readable() const { return bytes_ + (owned_ ? 16 : 0); }
 
  private:
   std::unique_ptr<char[]> owned_;

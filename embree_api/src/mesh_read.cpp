@@ -17,7 +17,17 @@ bool validVertex(Vec3f v) {
 
 std::vector<VertexBuffer> vertexViews(const Geometry& g) {
   std::vector<VertexBuffer> views;
-  for (const BufferView& b : g.vertices) views.push_back({b.data(), b.stride, b.count, 0});
+  for (const BufferView& b : g.vertices) {
+    // The bytes the buffer holds past the last vertex's x, y, z: owned
+    // buffers have 16 more, so the leaves may read each vertex as 16 bytes
+    // (VertexBuffer::padding); a shared one ends where its items end.
+    size_t padding = 0;
+    if (b.isSet() && b.count > 0) {
+      const size_t end = b.offset + (b.count - 1) * b.stride + 3 * sizeof(float);
+      if (b.buffer->readable() > end) padding = b.buffer->readable() - end;
+    }
+    views.push_back({b.data(), b.stride, b.count, padding});
+  }
   return views;
 }
 

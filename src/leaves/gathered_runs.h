@@ -118,7 +118,8 @@ inline bool wideReadable(const VertexBuffer& b) { return b.stride >= 16 || b.pad
 // A geometry's vertices at the ray's time, one to a pack (lanes 0-2: x, y,
 // z; lane 3 is not used), for the gathered blocks, the two steps
 // interpolated as VerticesAt does (a * (1 - f) + b * f, the same operations
-// lane by lane). Two forms, picked once per run :
+// lane by lane). Two forms, picked once per run (testGatheredRun,
+// testGatheredSegments):
 // - Lerped: two steps at one stride, both wideReadable: a vertex's offset
 //   is worked out once and each step read with one 16-byte load.
 // - General: one step or two, any strides; each vertex is one 12-byte load
