@@ -30,8 +30,9 @@ using namespace test;  // leaf_test_grid.h
 // 1, 2 and 5 steps, one alive over part of the shutter, and two whose
 // vertices are the caller's: one 12 bytes apart from an odd address (the
 // gather's 12-byte loads at any alignment, none past a vertex), one 16
-// bytes apart in buffers that end at the last vertex's fourth float (the
-// 16-byte loads of buffers that allow them, PackedVerticesAt).
+// bytes apart in buffers that end at the last vertex's fourth float, which
+// their padding says (the 16-byte loads of buffers that allow them,
+// PackedVerticesAt).
 TEST(LeafBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
   Scene scene;
   addMotionGrids(scene);
@@ -57,7 +58,7 @@ TEST(LeafBlocks, GatheredRunsAgreeWithTheOneByOneTest) {
       const Vec3f p = v[i];
       std::memcpy(&floats[k][4 * i], &p, sizeof p);
     }
-    scene.setVertices(shared16, k, VertexBuffer{floats[k].data(), 16, v.count, 0});
+    scene.setVertices(shared16, k, VertexBuffer{floats[k].data(), 16, v.count, 4});
   }
   ASSERT_TRUE(detail::leaf_block::wideReadable(scene.geometry(shared16).vertices(1)));
   ASSERT_FALSE(detail::leaf_block::wideReadable(scene.geometry(shared).vertices(1)));

@@ -111,9 +111,11 @@ inline uint32_t presentLanes(uint32_t left) {
 inline constexpr uint32_t kGatheredRunMin = 2;
 
 // Whether every vertex of b may be read as 16 bytes, its x, y, z and the 4
-// bytes after them: VertexBuffer's rule (scene.h; the scene pads the
-// buffers it owns, Embree asks the same of shared ones).
-inline bool wideReadable(const VertexBuffer& b) { return b.stride >= 16 || b.padding >= 4; }
+// bytes after them: the buffer says it holds 4 bytes past its last vertex
+// (VertexBuffer::padding; the scene pads the buffers it owns, the Embree
+// drop-in reports what its buffers hold). A wide stride alone is not taken
+// as leave to read past the last vertex.
+inline bool wideReadable(const VertexBuffer& b) { return b.padding >= 4; }
 
 // A geometry's vertices at the ray's time, one to a pack (lanes 0-2: x, y,
 // z; lane 3 is not used), for the gathered blocks, the two steps
