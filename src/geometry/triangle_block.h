@@ -59,7 +59,7 @@ struct BlockRay {
   size_t row[3];
   explicit BlockRay(const RayQuery& ray) {
     const int axis[3] = {ray.kx, ray.ky, ray.kz};
-    const float o[3] = {ray.org.x, ray.org.y, ray.org.z};  // indexed, not branched on (ray_query.h)
+    const float o[3] = {ray.org.x, ray.org.y, ray.org.z};  // by index: no branch on the axes
     for (int c = 0; c < 3; ++c) {
       org[c] = Pack<W>::set1(o[axis[c]]);
       row[c] = size_t(axis[c]) * sizeof(TriangleBlock<W>::p[0][0]);
