@@ -50,7 +50,9 @@ struct Segment {
 // taken to span count * stride bytes; `padding` says how many more bytes
 // after the last vertex's 12 may be read. Structures that load 16 bytes per
 // vertex (Embree) share buffers where stride >= 16 or padding >= 4 and copy
-// the others. Buffers the scene owns are padded.
+// the others. The leaves that gather vertices at the ray's time read each
+// with one 16-byte load where padding >= 4, else with 12-byte loads: give
+// the padding a buffer has. Buffers the scene owns are padded.
 struct VertexBuffer {
   const void* data = nullptr;
   size_t stride = 3 * sizeof(float);  // bytes between consecutive vertices

@@ -141,10 +141,6 @@ struct PackedVerticesAt {
         s1(at.v1 ? at.v1->stride : 0),
         w0(P::set1(1.0f - at.f)),
         w1(P::set1(at.f)) {}
-  // Whether `at` may take the Lerped form.
-  static bool fits(const leaf_run::VerticesAt& at) {
-    return at.v1 && at.v0->stride == at.v1->stride && wideReadable(*at.v0) && wideReadable(*at.v1);
-  }
   [[gnu::always_inline]] P operator[](uint32_t i) const {
     if constexpr (Lerped) {
       const size_t offset = i * s0;  // s1 == s0
@@ -167,6 +163,11 @@ struct PackedVerticesAt {
   px.store(x);
   py.store(y);
   pz.store(z);
+}
+
+// Whether `at` may take PackedVerticesAt's Lerped form.
+inline bool lerpedFits(const leaf_run::VerticesAt& at) {
+  return at.v1 && at.v0->stride == at.v1->stride && wideReadable(*at.v0) && wideReadable(*at.v1);
 }
 
 // The blocks of a run's triangles, their vertices read through `at`
@@ -209,7 +210,7 @@ inline bool testGatheredRun(const Geometry& g, const PrimRef* prims, uint32_t be
   const std::span<const Triangle> tris = g.triangles();
   const auto byIndex = [indices](uint32_t i) -> const Triangle& { return indices[i]; };
   const auto byPrim = [tris, prims](uint32_t i) -> const Triangle& { return tris[prims[i].primID]; };
-  if (PackedVerticesAt<true>::fits(at)) {
+  if (lerpedFits(at)) {
     if (indices) return testTriangleBlocks(PackedVerticesAt<true>(at), byIndex, prims, begin, end, ray, r, onHit);
     return testTriangleBlocks(PackedVerticesAt<true>(at), byPrim, prims, begin, end, ray, r, onHit);
   }
@@ -260,7 +261,7 @@ template <class OnHit>
 inline bool testGatheredSegments(const Geometry& g, const PrimRef* prims, uint32_t begin, uint32_t end,
                                  RayQuery& ray, const SegmentBlockRay<kLeafBlockWidth>& r, OnHit&& onHit) {
   const leaf_run::VerticesAt at(g, ray.time);
-  if (PackedVerticesAt<true>::fits(at))
+  if (lerpedFits(at))
     return testSegmentBlocks(PackedVerticesAt<true>(at), g, prims, begin, end, ray, r, onHit);
   return testSegmentBlocks(PackedVerticesAt<false>(at), g, prims, begin, end, ray, r, onHit);
 }
