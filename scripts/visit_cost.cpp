@@ -217,6 +217,7 @@ int main(int argc, char** argv) {
       BuildOptions o;
       o.kind = *kind;
       if (frozen) o.frozenTime = *frozen;
+      if (const char* ct = std::getenv("TRAVERSAL_COST")) o.traversalCost = float(std::atof(ct));
       row.accel = Accel::build(*ps.scene, o);
     }
     rows.push_back(std::move(row));

@@ -6,6 +6,7 @@
 #
 #   bash scripts/visit_cost.sh SCENE SIZE KIND[,KIND...] [RAYS]     (default 20000 rays)
 #   FROZEN=t bash scripts/visit_cost.sh ...                           (every ray at t; embree-static rows)
+#   TRAVERSAL_COST=c bash scripts/visit_cost.sh ...                   (the SAH's C_T, BuildOptions::traversalCost)
 #
 # Builds build/visit_cost from scripts/visit_cost.cpp against build/'s
 # libraries when it is missing or older than them.

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <map>
+#include <set>
+#include <tuple>
 #include <cstdio>
 #include <random>
 
@@ -255,6 +257,54 @@ TEST(Mbkd, LeafBlockLanesAreAliveOnTheirClosedIntervals) {
   EXPECT_EQ(test(1.0f, 4.5f, hits), 0b100u);
   EXPECT_EQ(hits, 0b100u);
   EXPECT_EQ(test(1.5f, 4.5f, hits), 0u);  // padding lanes 3..7 never alive
+}
+
+// Time slices (kd_leaf_blocks.h): a leaf of many short-lived references is
+// sliced; at every time (0, 1, slice ends and the floats beside them, random
+// ones) the blocks of the time's slice hold every reference alive then, and
+// forEachReference reports each reference once.
+TEST(Mbkd, SlicedLeafBlocksHoldEveryReferenceAliveAtTheRaysTime) {
+  detail::KdTree tree;
+  Rng rng(17);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (uint32_t i = 0; i < 400; ++i) {
+    const float t0 = u(rng), t1 = std::min(1.0f, t0 + 0.03f * u(rng));
+    tree.refs.push_back({i % 7, i % 50 == 0 ? 0.0f : t0, i % 60 == 0 ? 1.0f : t1});
+  }
+  tree.refs.push_back({3, 0.5f, 0.5f});
+  tree.refs.push_back({4, 0.25f, 0.75f});
+  tree.nodes.push_back(detail::KdNode::leaf(0, uint32_t(tree.refs.size())));
+  std::vector<detail::PrimRef> prims;
+  for (uint32_t p = 0; p < 7; ++p) prims.push_back({p, 100 + p});
+  const LBounds box(Box3f(Vec3f(0.0f), Vec3f(1.0f)), Box3f(Vec3f(0.0f), Vec3f(1.0f)));
+  const detail::KdLeafBlocks blocks =
+      detail::KdLeafBlocks::build(tree, prims.data(), [&](uint32_t, TimeRange) { return box; });
+  const detail::KdNode& leaf = blocks.cells.nodes[0];
+  ASSERT_GT(leaf.count(), 1u) << "short-lived references should be sliced";
+  // Once each, with their intervals.
+  std::multiset<std::tuple<uint32_t, float, float>> expected, reported;
+  for (const detail::KdLeafRef& r : tree.refs) expected.insert({prims[r.prim].primID, r.t0, r.t1});
+  blocks.forEachReference(leaf, [&](detail::PrimRef p, TimeRange t) { reported.insert({p.primID, t.lo, t.hi}); });
+  EXPECT_EQ(reported, expected);
+  std::vector<float> times = {0.0f, 1.0f, std::nextafter(1.0f, 0.0f), std::nextafter(0.0f, 1.0f)};
+  for (uint32_t i = 1; i < leaf.count(); ++i) {
+    const float end = detail::kdSliceStart(i, leaf.count());
+    times.insert(times.end(), {end, std::nextafter(end, 0.0f), std::nextafter(end, 1.0f)});
+  }
+  for (int i = 0; i < 200; ++i) times.push_back(u(rng));
+  for (const detail::KdLeafRef& r : tree.refs) times.insert(times.end(), {r.t0, r.t1});
+  for (float t : times) {
+    std::multiset<std::tuple<uint32_t, float, float>> alive, found;
+    for (const detail::KdLeafRef& r : tree.refs)
+      if (r.t0 <= t && t <= r.t1) alive.insert({prims[r.prim].primID, r.t0, r.t1});
+    const detail::KdLeafBlocks::Range range = blocks.blocksAt(leaf, t);
+    for (uint32_t k = range.begin; k < range.end; ++k)
+      for (int lane = 0; lane < detail::kKdBlockLanes; ++lane) {
+        const detail::KdLeafBlock& b = blocks.blocks[k];
+        if (b.t0[lane] <= t && t <= b.t1[lane]) found.insert({b.prim[lane].primID, b.t0[lane], b.t1[lane]});
+      }
+    EXPECT_EQ(found, alive) << "time " << t;
+  }
 }
 
 TEST(Mbkd, MemoryBudgetStopsTheBuild) {

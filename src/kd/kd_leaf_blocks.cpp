@@ -1,6 +1,8 @@
 #include "kd/kd_leaf_blocks.h"
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include "mbrt/scene.h"
 
@@ -28,6 +30,62 @@ void setLane(KdLeafBlock& b, int lane, const KdLeafRef& r, PrimRef prim, const L
   }
 }
 
+// The references of `refs` (sorted by interval start) alive in slice i of
+// `slices`, in the same order.
+void sliceReferences(const std::vector<KdLeafRef>& refs, uint32_t i, uint32_t slices, std::vector<KdLeafRef>& out) {
+  const float lo = kdSliceStart(i, slices), hi = kdSliceStart(i + 1, slices);
+  out.clear();
+  for (const KdLeafRef& r : refs)
+    if (r.t0 <= hi && r.t1 >= lo) out.push_back(r);
+}
+
+// The blocks a ray at a uniform time in slice [lo, hi] tests among those of
+// `refs` (sorted by start): a block is tested from its first start on.
+double blocksTested(const std::vector<KdLeafRef>& refs, float lo, float hi) {
+  double tested = 0.0;
+  for (size_t i = 0; i < refs.size(); i += kKdBlockLanes)
+    tested += std::clamp(double(hi - std::max(refs[i].t0, lo)) / double(hi - lo), 0.0, 1.0);
+  return tested;
+}
+
+size_t blocksFor(size_t refs) { return (refs + kKdBlockLanes - 1) / kKdBlockLanes; }
+
+// Slices per leaf, at most; and the blocks a slicing may lay out, at most, as
+// a multiple of the unsliced leaf's.
+constexpr uint32_t kMaxSlices = 64;
+constexpr double kSliceBlockBound = 1.5;
+// A leaf is sliced only where that saves a fifth of its tested blocks.
+constexpr double kSliceGain = 0.8;
+
+// The number of slices of a leaf: among the powers of two up to kMaxSlices
+// whose blocks stay within kSliceBlockBound times the unsliced ones, the
+// fewest that test within 5% of the fewest blocks a ray at a uniform time
+// tests; one where slicing saves less than kSliceGain. (Bounds chosen by
+// measurement, docs/performance.md: more blocks read cost more time than
+// the tests they save.)
+uint32_t chooseSlices(const std::vector<KdLeafRef>& refs) {
+  std::vector<KdLeafRef> in;
+  const double bound = kSliceBlockBound * double(std::max<size_t>(blocksFor(refs.size()), 1));
+  std::vector<std::pair<uint32_t, double>> costs;
+  for (uint32_t slices = 1; slices <= kMaxSlices; slices *= 2) {
+    size_t blocks = 0;
+    double tested = 0.0;
+    for (uint32_t i = 0; i < slices; ++i) {
+      sliceReferences(refs, i, slices, in);
+      blocks += blocksFor(in.size());
+      tested += blocksTested(in, kdSliceStart(i, slices), kdSliceStart(i + 1, slices));
+    }
+    if (double(blocks) > bound) break;
+    costs.push_back({slices, tested / slices});
+  }
+  double fewest = costs[0].second;
+  for (const auto& c : costs) fewest = std::min(fewest, c.second);
+  if (fewest > kSliceGain * costs[0].second) return 1;  // not worth the leaf's extra blocks
+  for (const auto& c : costs)
+    if (c.second <= 1.05 * fewest) return c.first;
+  return 1;
+}
+
 }  // namespace
 
 KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const PrimRef* prims,
@@ -36,7 +94,7 @@ KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const PrimRef* prims,
   out.cells.nodes = tree.nodes;
   out.cells.root = tree.root;
   out.cells.depth = tree.depth;
-  std::vector<KdLeafRef> refs;
+  std::vector<KdLeafRef> refs, in;
   for (KdNode& n : out.cells.nodes) {
     if (!n.isLeaf()) continue;
     refs.assign(tree.refs.begin() + n.first(), tree.refs.begin() + n.first() + n.count());
@@ -44,18 +102,26 @@ KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const PrimRef* prims,
     std::sort(refs.begin(), refs.end(), [](const KdLeafRef& a, const KdLeafRef& b) {
       return a.t0 < b.t0 || (a.t0 == b.t0 && a.t1 < b.t1);
     });
-    const size_t first = out.blocks.size(), count = (refs.size() + kKdBlockLanes - 1) / kKdBlockLanes;
-    if (first + count > kKdMaxIndex) throw Error("kd-tree: too many leaf blocks");
-    out.blocks.resize(first + count);
-    for (size_t i = 0; i < count * kKdBlockLanes; ++i) {
-      KdLeafBlock& b = out.blocks[first + i / kKdBlockLanes];
-      const int lane = int(i % kKdBlockLanes);
-      if (i < refs.size())
-        setLane(b, lane, refs[i], prims[refs[i].prim], bounds(refs[i].prim, {refs[i].t0, refs[i].t1}));
-      else
-        clearLane(b, lane);
+    const uint32_t slices = chooseSlices(refs);
+    const size_t firstSlice = out.sliceStarts.size();
+    for (uint32_t i = 0; i < slices; ++i) {
+      sliceReferences(refs, i, slices, in);
+      const size_t first = out.blocks.size(), count = blocksFor(in.size());
+      if (first + count > kKdMaxIndex) throw Error("kd-tree: too many leaf blocks");
+      out.sliceStarts.push_back(uint32_t(first));
+      out.blocks.resize(first + count);
+      for (size_t j = 0; j < count * kKdBlockLanes; ++j) {
+        KdLeafBlock& b = out.blocks[first + j / kKdBlockLanes];
+        const int lane = int(j % kKdBlockLanes);
+        if (j < in.size())
+          setLane(b, lane, in[j], prims[in[j].prim], bounds(in[j].prim, {in[j].t0, in[j].t1}));
+        else
+          clearLane(b, lane);
+      }
     }
-    n = KdNode::leaf(uint32_t(first), uint32_t(count));
+    out.sliceStarts.push_back(uint32_t(out.blocks.size()));
+    if (out.sliceStarts.size() > kKdMaxIndex) throw Error("kd-tree: too many leaf slices");
+    n = KdNode::leaf(uint32_t(firstSlice), refs.empty() ? 0u : slices);  // 0: an empty leaf, as the tree's
   }
   return out;
 }

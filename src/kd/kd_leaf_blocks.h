@@ -9,6 +9,14 @@
 // the ray against the primitive's box at the ray's time; only the surviving
 // lanes reach the mailbox and the primitive test. A block none of whose
 // intervals holds the ray's time stops after its first 64 bytes.
+//
+// A leaf whose references live for short intervals (many keys: a skinned
+// character's triangles cross many cells over the shutter) is cut into 2^k
+// equal time slices, each with the blocks of the references alive in it (a
+// reference spanning several slices is in each): a ray tests the blocks of
+// its time's slice only. The slicing per leaf minimises the blocks a ray at
+// a uniform time tests, within a bound on the leaf's blocks (build, in
+// kd_leaf_blocks.cpp).
 #pragma once
 
 #include <algorithm>
@@ -34,13 +42,54 @@ struct alignas(32) KdLeafBlock {
 };
 static_assert(sizeof(KdLeafBlock) == 512);
 
+// The time slice of `time` in [0, 1] among `slices` (a power of two): slice
+// i holds [i / slices, (i + 1) / slices], time 1 the last. Exact: time *
+// slices and i / slices are powers of two apart.
+inline uint32_t kdSliceOf(float time, uint32_t slices) {
+  return std::min(uint32_t(time * float(slices)), slices - 1u);
+}
+inline float kdSliceStart(uint32_t slice, uint32_t slices) { return float(slice) / float(slices); }
+
 // The blocks of a kd-tree's leaves. `cells` is the tree without its
-// references, each leaf's word = first block and count = number of blocks.
+// references; a leaf's word indexes `sliceStarts` and its count is its
+// number of time slices S: the blocks of slice i are [sliceStarts[word +
+// i], sliceStarts[word + i + 1]).
 struct KdLeafBlocks {
   KdTree cells;
   std::vector<KdLeafBlock> blocks;
+  std::vector<uint32_t> sliceStarts;
 
-  size_t bytes() const { return cells.bytes() + blocks.size() * sizeof(KdLeafBlock); }
+  size_t bytes() const {
+    return cells.bytes() + blocks.size() * sizeof(KdLeafBlock) + sliceStarts.size() * sizeof(uint32_t);
+  }
+
+  struct Range {
+    uint32_t begin, end;
+  };
+  // The blocks of leaf `leaf` that a ray at `time` tests (an empty leaf, of
+  // count 0, has one slice start and the end, equal).
+  Range blocksAt(const KdNode& leaf, float time) const {
+    const uint32_t* s = sliceStarts.data() + leaf.first() + kdSliceOf(time, leaf.count());
+    return {s[0], s[1]};
+  }
+  // Every block of the leaf, all its slices.
+  Range allBlocks(const KdNode& leaf) const {
+    return {sliceStarts[leaf.first()], sliceStarts[leaf.first() + leaf.count()]};
+  }
+  // fn(prim, [t0, t1]) once per reference of the leaf (a reference in
+  // several slices is reported from the first).
+  template <class Fn>
+  void forEachReference(const KdNode& leaf, const Fn& fn) const {
+    const uint32_t slices = leaf.count();
+    for (uint32_t i = 0; i < slices; ++i)
+      for (uint32_t k = sliceStarts[leaf.first() + i]; k < sliceStarts[leaf.first() + i + 1]; ++k)
+        for (int lane = 0; lane < kKdBlockLanes; ++lane) {
+          const KdLeafBlock& b = blocks[k];
+          // In slice i - 1 too when it starts at or before slice i's start.
+          const bool earlier = i > 0 && b.t0[lane] <= kdSliceStart(i, slices);
+          if (b.t0[lane] <= b.t1[lane] && !earlier) fn(b.prim[lane], TimeRange{b.t0[lane], b.t1[lane]});
+        }
+  }
 
   // The references' primitives are prims[ref.prim]; bounds(ref.prim,
   // [t0, t1]) = conservative (widened) linear bounds of the primitive over
@@ -48,10 +97,9 @@ struct KdLeafBlocks {
   static KdLeafBlocks build(const KdTree& tree, const PrimRef* prims,
                             const std::function<LBounds(uint32_t, TimeRange)>& bounds);
 
-  // Starts loading a leaf's blocks (their interval lines) before the test.
-  void prefetch(const KdNode& leaf) const {
-    for (uint32_t k = leaf.first(), end = leaf.first() + std::min(leaf.count(), 8u); k < end; ++k)
-      detail::prefetch(&blocks[k]);
+  // Starts loading the blocks' first lines (their intervals) before the test.
+  void prefetch(Range r) const {
+    for (uint32_t k = r.begin, end = std::min(r.end, r.begin + 8u); k < end; ++k) detail::prefetch(&blocks[k]);
   }
 };
 

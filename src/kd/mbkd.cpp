@@ -63,14 +63,10 @@ class Mbkd final : public TracedStructure<Mbkd<Leaves>>, public Inspect {
       if (!n.isLeaf()) return;
       below.clear();
       times.clear();
-      for (uint32_t k = n.first(); k < n.first() + n.count(); ++k) {
-        const KdLeafBlock& block = blocks_.blocks[k];
-        for (int lane = 0; lane < kKdBlockLanes; ++lane)
-          if (block.t0[lane] <= block.t1[lane]) {
-            below.push_back(block.prim[lane]);
-            times.push_back({block.t0[lane], block.t1[lane]});
-          }
-      }
+      blocks_.forEachReference(n, [&](PrimRef prim, TimeRange t) {
+        below.push_back(prim);
+        times.push_back(t);
+      });
       fn(LaneView{{0.0f, 1.0f}, [&cell](float) { return cell; }, below, times});
     });
   }
@@ -130,8 +126,9 @@ class Mbkd final : public TracedStructure<Mbkd<Leaves>>, public Inspect {
     return kdWalk<AnyHit, Count>(blocks_.cells, ray, counters, [&](const KdNode& n) {
       bool found = false;
       KdLeafBatch batch;
-      blocks_.prefetch(n);
-      for (uint32_t k = n.first(), end = n.first() + n.count(); k < end; ++k) {
+      const KdLeafBlocks::Range r = blocks_.blocksAt(n, time);
+      blocks_.prefetch(r);
+      for (uint32_t k = r.begin; k < r.end; ++k) {
         const KdLeafBlock& block = blocks_.blocks[k];
         if (block.t0[0] > time) break;
         uint32_t hits;
