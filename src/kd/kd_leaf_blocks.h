@@ -72,10 +72,6 @@ struct KdLeafBlocks {
     const uint32_t* s = sliceStarts.data() + leaf.first() + kdSliceOf(time, leaf.count());
     return {s[0], s[1]};
   }
-  // Every block of the leaf, all its slices.
-  Range allBlocks(const KdNode& leaf) const {
-    return {sliceStarts[leaf.first()], sliceStarts[leaf.first() + leaf.count()]};
-  }
   // fn(prim, [t0, t1]) once per reference of the leaf (a reference in
   // several slices is reported from the first).
   template <class Fn>
