@@ -1,6 +1,7 @@
 #include "kd/kd_leaf_blocks.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -30,13 +31,20 @@ void setLane(KdLeafBlock& b, int lane, const KdLeafRef& r, PrimRef prim, const L
   }
 }
 
-// The references of `refs` (sorted by interval start) alive in slice i of
-// `slices`, in the same order.
-void sliceReferences(const std::vector<KdLeafRef>& refs, uint32_t i, uint32_t slices, std::vector<KdLeafRef>& out) {
-  const float lo = kdSliceStart(i, slices), hi = kdSliceStart(i + 1, slices);
-  out.clear();
-  for (const KdLeafRef& r : refs)
-    if (r.t0 <= hi && r.t1 >= lo) out.push_back(r);
+// The references of `refs` (sorted by interval start) alive in each slice
+// of `slices`, in the same order: reference r is in slice i when r.t0 <= (i
+// + 1) / slices and r.t1 >= i / slices, i.e. from ceil(t0 * slices) - 1 to
+// floor(t1 * slices) (exact products: slices is a power of two).
+void sliceReferences(const std::vector<KdLeafRef>& refs, uint32_t slices, std::vector<std::vector<KdLeafRef>>& out) {
+  out.resize(slices);
+  for (auto& in : out) in.clear();
+  for (const KdLeafRef& r : refs) {
+    const float first = std::max(std::ceil(r.t0 * float(slices)) - 1.0f, 0.0f);
+    const float last = std::min(std::floor(r.t1 * float(slices)), float(slices - 1));
+    if (!(first <= last)) continue;  // alive in no slice: an empty interval
+    for (uint32_t i = uint32_t(first), end = uint32_t(last); i <= end; ++i)
+      out[i].push_back(r);
+  }
 }
 
 // The blocks a ray at a uniform time in slice [lo, hi] tests among those of
@@ -57,33 +65,34 @@ constexpr double kSliceBlockBound = 1.5;
 // A leaf is sliced only where that saves a fifth of its tested blocks.
 constexpr double kSliceGain = 0.8;
 
-// The number of slices of a leaf: among the powers of two up to kMaxSlices
-// whose blocks stay within kSliceBlockBound times the unsliced ones, the
-// fewest that test within 5% of the fewest blocks a ray at a uniform time
-// tests; one where slicing saves less than kSliceGain. (Bounds chosen by
-// measurement, docs/performance.md: more blocks read cost more time than
-// the tests they save.)
-uint32_t chooseSlices(const std::vector<KdLeafRef>& refs) {
-  std::vector<KdLeafRef> in;
+// The slices of a leaf (`chosen`, each one's references): among the powers
+// of two up to kMaxSlices whose blocks stay within kSliceBlockBound times
+// the unsliced ones, the fewest that test within 5% of the fewest blocks a
+// ray at a uniform time tests; one where slicing saves less than
+// kSliceGain. (Bounds chosen by measurement, docs/performance.md: more
+// blocks read cost more time than the tests they save.)
+void chooseSlices(const std::vector<KdLeafRef>& refs, std::vector<std::vector<KdLeafRef>>& chosen) {
   const double bound = kSliceBlockBound * double(std::max<size_t>(blocksFor(refs.size()), 1));
-  std::vector<std::pair<uint32_t, double>> costs;
+  std::vector<std::vector<std::vector<KdLeafRef>>> slicings;
+  std::vector<double> tested;  // per ray, of each slicing
   for (uint32_t slices = 1; slices <= kMaxSlices; slices *= 2) {
+    std::vector<std::vector<KdLeafRef>> in;
+    sliceReferences(refs, slices, in);
     size_t blocks = 0;
-    double tested = 0.0;
+    double sum = 0.0;
     for (uint32_t i = 0; i < slices; ++i) {
-      sliceReferences(refs, i, slices, in);
-      blocks += blocksFor(in.size());
-      tested += blocksTested(in, kdSliceStart(i, slices), kdSliceStart(i + 1, slices));
+      blocks += blocksFor(in[i].size());
+      sum += blocksTested(in[i], kdSliceStart(i, slices), kdSliceStart(i + 1, slices));
     }
     if (double(blocks) > bound) break;
-    costs.push_back({slices, tested / slices});
+    slicings.push_back(std::move(in));
+    tested.push_back(sum / slices);
   }
-  double fewest = costs[0].second;
-  for (const auto& c : costs) fewest = std::min(fewest, c.second);
-  if (fewest > kSliceGain * costs[0].second) return 1;  // not worth the leaf's extra blocks
-  for (const auto& c : costs)
-    if (c.second <= 1.05 * fewest) return c.first;
-  return 1;
+  const double fewest = *std::min_element(tested.begin(), tested.end());
+  size_t pick = 0;
+  if (fewest <= kSliceGain * tested[0])
+    while (tested[pick] > 1.05 * fewest) ++pick;
+  chosen = std::move(slicings[pick]);
 }
 
 }  // namespace
@@ -94,7 +103,8 @@ KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const PrimRef* prims,
   out.cells.nodes = tree.nodes;
   out.cells.root = tree.root;
   out.cells.depth = tree.depth;
-  std::vector<KdLeafRef> refs, in;
+  std::vector<KdLeafRef> refs;
+  std::vector<std::vector<KdLeafRef>> slices;
   for (KdNode& n : out.cells.nodes) {
     if (!n.isLeaf()) continue;
     refs.assign(tree.refs.begin() + n.first(), tree.refs.begin() + n.first() + n.count());
@@ -102,10 +112,9 @@ KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const PrimRef* prims,
     std::sort(refs.begin(), refs.end(), [](const KdLeafRef& a, const KdLeafRef& b) {
       return a.t0 < b.t0 || (a.t0 == b.t0 && a.t1 < b.t1);
     });
-    const uint32_t slices = chooseSlices(refs);
+    chooseSlices(refs, slices);
     const size_t firstSlice = out.sliceStarts.size();
-    for (uint32_t i = 0; i < slices; ++i) {
-      sliceReferences(refs, i, slices, in);
+    for (const std::vector<KdLeafRef>& in : slices) {
       const size_t first = out.blocks.size(), count = blocksFor(in.size());
       if (first + count > kKdMaxIndex) throw Error("kd-tree: too many leaf blocks");
       out.sliceStarts.push_back(uint32_t(first));
@@ -121,7 +130,7 @@ KdLeafBlocks KdLeafBlocks::build(const KdTree& tree, const PrimRef* prims,
     }
     out.sliceStarts.push_back(uint32_t(out.blocks.size()));
     if (out.sliceStarts.size() > kKdMaxIndex) throw Error("kd-tree: too many leaf slices");
-    n = KdNode::leaf(uint32_t(firstSlice), refs.empty() ? 0u : slices);  // 0: an empty leaf, as the tree's
+    n = KdNode::leaf(uint32_t(firstSlice), refs.empty() ? 0u : uint32_t(slices.size()));  // 0: an empty leaf, as the tree's
   }
   return out;
 }
